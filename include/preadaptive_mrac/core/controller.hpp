@@ -1,0 +1,194 @@
+#pragma once
+/// \file controller.hpp
+/// \brief LQR baseline + MRAC with attention and preadaptation: the controller of Fig. 1.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "preadaptive_mrac/core/network.hpp"
+#include "preadaptive_mrac/core/solvers.hpp"
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+class ParamReader;
+struct PlantConfig;
+
+/// \brief What the preadaptation does at an onset and after a phase.
+enum class Mode {
+  kRac,           ///< regular adaptive control: never resets theta_hat
+  kPa,            ///< preadaptation, network fixed
+  kPaLearn,       ///< preadaptation, learning with the approximate gradient (Pi_hat)
+  kPaLearnExact,  ///< preadaptation, learning with the exact gradient (needs true theta)
+};
+const char* modeName(Mode m);
+/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact".
+std::optional<Mode> parseMode(const std::string& s);
+
+/// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
+struct ControllerConfig {
+  Mode mode = Mode::kPaLearn;
+  double sample_time = 0.001;   ///< controller period dt [s]
+  Eigen::MatrixXd Q;            ///< LQR state weight (n x n, symmetric >= 0)
+  double R = 1.0;               ///< LQR input weight (> 0)
+  double k0 = 0.0;              ///< feed-forward gain of r (B2r = k0 B)
+  double gamma = 10.0;          ///< adaptation gain
+  Eigen::VectorXd theta_hat0;   ///< initial estimate (n)
+  double tau = 0.01;            ///< velocity-estimator time constant [s]
+  double c_e = 0.005;           ///< attention error threshold [rad]
+  double c_ed = 0.02;           ///< attention rate threshold [rad/s]
+  int hidden = 3;               ///< hidden neurons
+  double init_scale = 1.0;      ///< initial weights uniform in [-init_scale, init_scale]
+  std::uint64_t seed = 1;       ///< seed of the initial weights
+  double gamma_pa = 10.0;       ///< learning rate of the preadaptation learner
+
+  /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
+  static ControllerConfig read(ParamReader& r, int n, const std::string& prefix = "controller");
+  /// \brief Every problem with the values (signs, sizes, finiteness) into the reader.
+  void validate(ParamReader& r, int n, const std::string& prefix = "controller") const;
+};
+
+/// \brief An attention event.
+struct Event {
+  enum class Type { kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery };
+  Type type = Type::kOnset;
+  double t = 0.0;          ///< sample time [s]
+  double e = 0.0;          ///< output error alpha - alpha_r [rad]
+  double e_dot = 0.0;      ///< estimated rate of e [rad/s]
+  Vec theta_hat_before;    ///< estimate before the event
+  Vec theta_hat_after;     ///< estimate after (the reset value on onsets in pa modes)
+  bool reset = false;      ///< theta_hat was reset to theta_hat_I
+  double cost = 0.0;       ///< E = integral |e| dt over the phase (recoveries)
+  Vec grad;                ///< dE/dtheta_hat_I (recoveries in learning modes)
+  bool learned = false;    ///< the network was updated
+  std::int64_t episodes = 0;  ///< learning episodes after the event
+};
+const char* eventTypeName(Event::Type t);
+
+/// \brief Input of one controller step.
+struct StepInput {
+  double t = 0.0;                     ///< sample time [s]
+  const Vec* x = nullptr;             ///< measured state [e_I, alpha, q]
+  double r = 0.0;                     ///< command [rad]
+  const Vec* theta_true = nullptr;    ///< simulation truth; needed by pa_learn_exact only
+};
+
+/// \brief Output of one controller step.
+struct StepOutput {
+  double u = 0.0;           ///< elevator command u_bl + u_ad [rad]
+  double u_baseline = 0.0;  ///< -K x
+  double u_adaptive = 0.0;  ///< -theta_hat^T x + k0 r
+  double e = 0.0;           ///< output error [rad]
+  double e_dot = 0.0;       ///< its estimated rate [rad/s]
+  Vec x_ref;                ///< reference-model state at this sample
+  Vec theta_hat;            ///< estimate used for u at this sample (after any reset)
+  std::optional<Event> event;  ///< at most one attention event per sample
+};
+
+/// \brief Dirty derivative s / (tau s + 1) of e, backward-Euler discretised.
+class VelocityEstimator {
+ public:
+  VelocityEstimator(double tau, double dt) : tau_(tau), dt_(dt) {}
+  /// \brief Feed one sample; returns the estimate. The first sample gives 0.
+  double update(double e);
+  double value() const { return value_; }
+  void reset() { primed_ = false; value_ = 0.0; }
+
+ private:
+  double tau_, dt_;
+  bool primed_ = false;
+  double prev_ = 0.0, value_ = 0.0;
+};
+
+/// \brief Attention function (eq. attention) with the phase state of SPEC.md.
+class Attention {
+ public:
+  enum class Result { kNone, kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery };
+  Attention(double c_e, double c_ed) : c_e_(c_e), c_ed_(c_ed) {}
+  /// \brief Evaluate one sample of e and its estimated rate.
+  Result update(double e, double e_dot);
+  bool phaseActive() const { return active_; }
+  void reset() { primed_ = false; active_ = false; }
+
+ private:
+  double c_e_, c_ed_;
+  bool primed_ = false, active_ = false;
+  double s_prev_ = 0.0;
+};
+
+/// \brief Sensitivity of the phase cost to theta_hat_I (eqs. E-der-exp, dot-ev-hth-der-exp),
+/// S_dot = Pi S integrated alongside the controller.
+class SensitivityTracker {
+ public:
+  SensitivityTracker() = default;
+  SensitivityTracker(const Mat& Ar, const Vec& B, const Vec& PB, double gamma, int out);
+  /// \brief Start a phase: S = [0; I], E = 0, g = 0.
+  void start();
+  /// \brief Add one sample's contribution over [t, t+dt): E += |e| dt, g += sign(e) S[out,:] dt,
+  /// then S += dt Pi S. `theta_err` = theta - theta_hat (zero for the approximate gradient).
+  void accumulate(double dt, const Vec& ev, const Vec& x, const Vec& theta_err);
+  /// \brief Pi (2n x 2n) at the given signals; for tests and documentation, not the hot path.
+  PiMat pi(const Vec& ev, const Vec& x, const Vec& theta_err) const;
+  double cost() const { return E_; }
+  const Vec& grad() const { return g_; }
+  const SensMat& S() const { return S_; }
+
+ private:
+  Mat Ar_;
+  Vec B_, PB_;
+  double gamma_ = 0.0;
+  int out_ = 1, n_ = 0;
+  SensMat S_, Sdot_;
+  double E_ = 0.0;
+  Vec g_;
+};
+
+/// \brief The whole controller: one step per sample, as in Fig. 1 of the paper.
+///
+/// Per sample t_k with measured x_k: e_v = x_k - x_r; velocity estimate; attention (onset
+/// resets theta_hat to the network's theta_hat_I in pa modes; recovery updates the network in
+/// learning modes); u = -K x - theta_hat^T x + k0 r; then x_r, theta_hat (Euler, eq.
+/// adaptivecontrol) and the sensitivity advance to t_k + dt.
+class Controller {
+ public:
+  /// \brief Derives K (CARE) and P (Lyapunov) from the plant's A, B and the config's Q, R;
+  /// throws SolverError when that is impossible. The plant is known only through A, B, B1r.
+  Controller(const PlantConfig& plant, const ControllerConfig& cfg);
+
+  /// \brief One sample. Allocation-free.
+  StepOutput step(const StepInput& in);
+  /// \brief Back to the initial state (x_r, theta_hat, estimator, attention); keeps the network.
+  void reset();
+
+  const ControllerDesign& design() const { return design_; }
+  const ControllerConfig& config() const { return cfg_; }
+  Mode mode() const { return cfg_.mode; }
+  const Vec& thetaHat() const { return theta_hat_; }
+  const Vec& xRef() const { return x_r_; }
+  bool phaseActive() const { return attention_.phaseActive(); }
+  const PreadaptNetwork& network() const { return net_; }
+  /// \brief Replace the network (e.g. loaded weights); sizes must match hidden x n.
+  void setNetwork(const NetworkState& s);
+  /// \brief True in pa_learn_exact, which needs StepInput::theta_true.
+  bool needsTruth() const { return cfg_.mode == Mode::kPaLearnExact; }
+
+ private:
+  ControllerConfig cfg_;
+  ControllerDesign design_;
+  int n_, out_;
+  double dt_;
+  Vec K_, B_, PB_, b_ref_;
+  Mat Phi_r_;   // RK4 transition of the reference model over dt
+  Vec Gam_r_;   // RK4 input vector of the reference model over dt (times r)
+  Vec x0_, x_r_, theta_hat_, ev_, theta_err_;
+  double phase_cost_ = 0.0;
+  VelocityEstimator vel_;
+  Attention attention_;
+  PreadaptNetwork net_;
+  SensitivityTracker sens_;
+  NetInput z_onset_;
+};
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,47 @@
+#pragma once
+/// \file scenario.hpp
+/// \brief Piecewise-constant schedules of theta(t) and r(t) (config/scenarios/*.yaml).
+
+#include <string>
+#include <vector>
+
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+class ParamReader;
+
+/// \brief A scenario: theta and r as lists of segments, each holding its value until `until`.
+///
+/// A segment holds on (previous until, until]: theta changes right after the listed time,
+/// as in the paper's eqs. theta-scenario-1/2/3. The last segment's `until` is the end time.
+struct Scenario {
+  struct ThetaSegment {
+    double until;
+    Eigen::VectorXd theta;
+  };
+  struct RefSegment {
+    double until;
+    double r;
+  };
+  std::string name;
+  std::string description;
+  std::vector<ThetaSegment> theta;
+  std::vector<RefSegment> reference;
+
+  /// \brief End time [s] (the last theta segment's until).
+  double endTime() const;
+  /// \brief theta at time t [s] (the segment with previous until < t <= until).
+  const Eigen::VectorXd& thetaAt(double t) const;
+  /// \brief r at time t [rad].
+  double rAt(double t) const;
+  /// \brief Times where theta changes (every until but the last).
+  std::vector<double> switchTimes() const;
+
+  /// \brief Read the `scenario` section for a plant of n states.
+  /// Segments: {until: s, scale: c} (theta = c * ones) or {until: s, theta: [..]};
+  /// reference: {until: s, r: value}; a missing `reference` means r = 0.1 rad throughout.
+  static Scenario read(ParamReader& r, int n, const std::string& prefix = "scenario");
+};
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,69 @@
+#pragma once
+/// \file solvers.hpp
+/// \brief Start-up solvers: LQR gain from the continuous algebraic Riccati equation and P
+/// from the Lyapunov equation. Each refuses bad input with a SolverError naming the cause.
+
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Dense>
+
+namespace preadaptive_mrac {
+
+/// \brief Why a solver refused. `cause` is a stable short code for tests and tools.
+class SolverError : public std::runtime_error {
+ public:
+  SolverError(std::string cause, const std::string& message)
+      : std::runtime_error(message), cause_(std::move(cause)) {}
+  /// \brief One of: not_stabilizable, q_not_psd, q_not_symmetric, r_not_positive,
+  /// hamiltonian_imaginary_axis, not_hurwitz, p_not_positive_definite, dimension, singular.
+  const std::string& cause() const { return cause_; }
+
+ private:
+  std::string cause_;
+};
+
+/// \brief Solution of the CARE A^T X + X A - X B R^-1 B^T X + Q = 0.
+struct LqrSolution {
+  Eigen::MatrixXd X;  ///< stabilising solution (n x n, symmetric, >= 0)
+  Eigen::RowVectorXd K;  ///< gain K = R^-1 B^T X (1 x n), u = -K x
+  double relative_residual = 0.0;
+};
+
+/// \brief LQR for single-input (A, B): matrix-sign-function solve of the Hamiltonian,
+/// polished by Newton-Kleinman steps. Requires Q symmetric >= 0, R > 0, (A, B) stabilisable.
+LqrSolution solveLqr(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, const Eigen::MatrixXd& Q,
+                     double R);
+
+/// \brief Solve A^T X + X A = -Q (A Hurwitz). Kronecker form, meant for small n.
+Eigen::MatrixXd solveLyapunov(const Eigen::MatrixXd& A, const Eigen::MatrixXd& Q);
+
+/// \brief Relative residual ||A^T X + X A - X B R^-1 B^T X + Q|| / (sum of term norms).
+double careResidual(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, const Eigen::MatrixXd& Q,
+                    double R, const Eigen::MatrixXd& X);
+/// \brief Relative residual ||A^T X + X A + Q|| / (||A^T X|| + ||X A|| + ||Q||).
+double lyapunovResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& Q,
+                        const Eigen::MatrixXd& X);
+
+/// \brief PBH test: every eigenvalue with Re >= 0 is controllable.
+bool isStabilizable(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, double tol = 1e-9);
+/// \brief All eigenvalues strictly in the left half plane.
+bool isHurwitz(const Eigen::MatrixXd& A);
+/// \brief Largest real part of the eigenvalues of A.
+double spectralAbscissa(const Eigen::MatrixXd& A);
+
+/// \brief Everything the controller derives at start-up from (A, B, Q, R).
+struct ControllerDesign {
+  Eigen::RowVectorXd K;  ///< LQR gain
+  Eigen::MatrixXd Ar;    ///< A - B K
+  Eigen::MatrixXd P;     ///< A_r^T P + P A_r = -I
+  double care_residual = 0.0;
+  double lyapunov_residual = 0.0;
+};
+
+/// \brief K from the CARE, A_r = A - B K, P from the Lyapunov equation; refuses when
+/// A_r is not Hurwitz or P is not positive definite.
+ControllerDesign designController(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
+                                  const Eigen::MatrixXd& Q, double R);
+
+}  // namespace preadaptive_mrac

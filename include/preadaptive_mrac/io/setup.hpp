@@ -1,0 +1,63 @@
+#pragma once
+/// \file setup.hpp
+/// \brief What the batch CLI, the sweep tool and the ROS nodes share: locating the package's
+/// config files, reading all sections with every problem at once, and the run's JSON summary.
+
+#include <string>
+#include <vector>
+
+#include "preadaptive_mrac/core/closed_loop.hpp"
+#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/plant.hpp"
+#include "preadaptive_mrac/core/scenario.hpp"
+
+namespace preadaptive_mrac {
+
+/// \brief The package's config/ directory (set at build time; PREADAPTIVE_MRAC_CONFIG_DIR
+/// in the environment overrides it).
+std::string configDir();
+/// \brief "1" | "2" | "3" -> config/scenarios/scenarioN.yaml; anything else is a path.
+std::string scenarioPath(const std::string& arg);
+/// \brief Default plant and controller files.
+std::string defaultPlantPath();
+std::string defaultControllerPath();
+
+/// \brief Every section a run needs, validated.
+struct RunConfig {
+  PlantConfig plant;
+  ControllerConfig controller;
+  Scenario scenario;
+};
+
+/// \brief Which sections to read (a plant node needs no controller, and so on).
+struct Sections {
+  bool plant = true, controller = true, scenario = true;
+  /// Report top-level keys other than the three sections (the CLI: a --set typo);
+  /// off for ROS, whose private namespaces also hold node parameters.
+  bool strict_top_level = false;
+};
+
+/// \brief Read and validate the sections of `tree` (keys plant, controller, scenario), report
+/// unknown keys inside them, and check the design (K from the CARE, P from the Lyapunov
+/// equation) so that (A, B) not stabilisable etc. come back as problems naming the keys.
+/// Throws ConfigError with every problem.
+RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style = {},
+                        Sections sections = {});
+
+/// \brief Identification of a run for its JSON summary.
+struct RunInfo {
+  std::string scenario;  ///< as given (1|2|3|path)
+  std::string mode;
+  std::uint64_t seed = 0;
+  double dt = 0.0;
+  std::vector<std::string> overrides;
+  double wall_time_s = 0.0;
+};
+
+/// \brief One-line JSON summary of a run (the `--json` output and one sweep line).
+std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const SimResult& res);
+/// \brief Write the time series as CSV (t, x, x_r, e, e_dot_est, u, theta_hat, theta_true, phase).
+void writeSeriesCsv(const std::string& path, const Series& s);
+
+}  // namespace preadaptive_mrac

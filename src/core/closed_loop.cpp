@@ -1,0 +1,130 @@
+#include "preadaptive_mrac/core/closed_loop.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace preadaptive_mrac {
+
+MetricsAccumulator::MetricsAccumulator(const std::vector<double>& switch_times, double t_end,
+                                       const std::vector<Eigen::VectorXd>& window_theta) {
+  double start = 0.0;
+  for (size_t i = 0; i <= switch_times.size(); ++i) {
+    WindowMetrics w;
+    w.t_start = start;
+    w.t_end = i < switch_times.size() ? switch_times[i] : t_end;
+    if (i < window_theta.size()) w.theta = window_theta[i];
+    m_.windows.push_back(w);
+    start = w.t_end;
+  }
+}
+
+int MetricsAccumulator::windowOf(double t) const {
+  // A window holds (t_start, t_end]: the sample exactly at a switch still belongs to the old
+  // theta, matching the scenario's segments. Sample 0 belongs to the first window.
+  for (size_t i = 0; i < m_.windows.size(); ++i)
+    if (t <= m_.windows[i].t_end) return static_cast<int>(i);
+  return static_cast<int>(m_.windows.size()) - 1;
+}
+
+void MetricsAccumulator::add(double t, double dt, double e, double u) {
+  WindowMetrics& w = m_.windows[static_cast<size_t>(windowOf(t))];
+  const double a = std::abs(e);
+  w.peak_abs_e = std::max(w.peak_abs_e, a);
+  w.iae += a * dt;
+  m_.iae += a * dt;
+  m_.peak_abs_e = std::max(m_.peak_abs_e, a);
+  m_.max_abs_u = std::max(m_.max_abs_u, std::abs(u));
+}
+
+void MetricsAccumulator::addEvent(const Event& ev) {
+  WindowMetrics& w = m_.windows[static_cast<size_t>(windowOf(ev.t))];
+  if (ev.type == Event::Type::kOnset) ++w.onsets;
+  if (ev.type == Event::Type::kRecovered) {
+    ++w.recoveries;
+    if (w.recovery_time < 0.0) w.recovery_time = ev.t - w.t_start;
+  }
+}
+
+ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario, double dt)
+    : plant_(plant), scenario_(scenario), dt_(dt) {
+  if (!(dt > 0.0)) throw std::invalid_argument("dt must be > 0");
+  // Samples t_k = k dt with t_k < t_end (a tolerance guards against round-off in t_end / dt).
+  steps_ = static_cast<std::int64_t>(std::ceil(scenario_.endTime() / dt_ - 1e-9));
+  reset();
+}
+
+void ScenarioPlant::reset() {
+  plant_.reset();
+  k_ = 0;
+  sampleInputs();
+}
+
+void ScenarioPlant::sampleInputs() {
+  const double t = time();
+  r_ = scenario_.rAt(t);
+  theta_ = scenario_.thetaAt(t + 0.5 * dt_);
+}
+
+void ScenarioPlant::advance(double u) {
+  plant_.step(dt_, theta_, u, r_);
+  ++k_;
+  sampleInputs();
+}
+
+ClosedLoop::ClosedLoop(const PlantConfig& plant, const Scenario& scenario, Controller* controller)
+    : plant_cfg_(plant), scenario_(scenario), ctl_(controller) {}
+
+SimResult ClosedLoop::run(const SimOptions& opt) {
+  SimResult res;
+  ScenarioPlant sim(plant_cfg_, scenario_, opt.dt);
+  const double dt = opt.dt;
+  std::vector<Eigen::VectorXd> wtheta;
+  for (const auto& s : scenario_.theta) wtheta.push_back(s.theta);
+  MetricsAccumulator acc(scenario_.switchTimes(), scenario_.endTime(), wtheta);
+  ctl_->reset();
+  const std::int64_t steps = sim.totalSteps();
+  if (opt.record_series) {
+    auto& s = res.series;
+    for (auto* v : {&s.t, &s.e, &s.e_dot, &s.u, &s.u_bl, &s.u_ad, &s.r})
+      v->reserve(static_cast<size_t>(steps));
+    for (auto* v : {&s.x, &s.x_r, &s.theta_hat, &s.theta_true}) v->reserve(static_cast<size_t>(steps));
+    s.phase.reserve(static_cast<size_t>(steps));
+  }
+  Vec x;
+  while (!sim.done()) {
+    const double t = sim.time();
+    x = sim.state();
+    StepInput in;
+    in.t = t;
+    in.x = &x;
+    in.r = sim.reference();
+    in.theta_true = &sim.theta();
+    const StepOutput o = ctl_->step(in);
+    if (o.event) {
+      acc.addEvent(*o.event);
+      res.events.push_back(*o.event);
+    }
+    acc.add(t, dt, o.e, o.u);
+    if (opt.record_series) {
+      auto& s = res.series;
+      s.t.push_back(t);
+      s.e.push_back(o.e);
+      s.e_dot.push_back(o.e_dot);
+      s.u.push_back(o.u);
+      s.u_bl.push_back(o.u_baseline);
+      s.u_ad.push_back(o.u_adaptive);
+      s.r.push_back(in.r);
+      s.x.push_back(x);
+      s.x_r.push_back(o.x_ref);
+      s.theta_hat.push_back(o.theta_hat);
+      s.theta_true.push_back(sim.theta());
+      s.phase.push_back(ctl_->phaseActive() ? 1 : 0);
+    }
+    sim.advance(o.u);
+  }
+  res.steps = steps;
+  res.metrics = acc.metrics();
+  return res;
+}
+
+}  // namespace preadaptive_mrac

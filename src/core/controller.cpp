@@ -1,0 +1,285 @@
+#include "preadaptive_mrac/core/controller.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/plant.hpp"
+
+namespace preadaptive_mrac {
+
+const char* modeName(Mode m) {
+  switch (m) {
+    case Mode::kRac: return "rac";
+    case Mode::kPa: return "pa";
+    case Mode::kPaLearn: return "pa_learn";
+    case Mode::kPaLearnExact: return "pa_learn_exact";
+  }
+  return "?";
+}
+
+std::optional<Mode> parseMode(const std::string& s) {
+  if (s == "rac") return Mode::kRac;
+  if (s == "pa") return Mode::kPa;
+  if (s == "pa_learn") return Mode::kPaLearn;
+  if (s == "pa_learn_exact") return Mode::kPaLearnExact;
+  return std::nullopt;
+}
+
+const char* eventTypeName(Event::Type t) {
+  switch (t) {
+    case Event::Type::kOnset: return "onset";
+    case Event::Type::kRecovered: return "recovered";
+    case Event::Type::kIgnoredOnset: return "ignored_onset";
+    case Event::Type::kIgnoredRecovery: return "ignored_recovery";
+  }
+  return "?";
+}
+
+ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string& p) {
+  ControllerConfig c;
+  const std::string mode = r.getString(p + ".mode");
+  if (r.has(p + ".mode")) {
+    auto m = parseMode(mode);
+    if (m) {
+      c.mode = *m;
+    } else if (!mode.empty() || r.has(p + ".mode")) {
+      r.fail(p + ".mode", "expected one of rac, pa, pa_learn, pa_learn_exact, got '" + mode + "'");
+    }
+  }
+  c.sample_time = r.getDouble(p + ".sample_time");
+  c.Q = r.getMatrix(p + ".lqr.Q", n > 0 ? n : -1, n > 0 ? n : -1);
+  c.R = r.getDouble(p + ".lqr.R");
+  c.k0 = r.getDouble(p + ".reference_model.k0");
+  c.gamma = r.getDouble(p + ".adaptation.gamma");
+  c.theta_hat0 = r.getVector(p + ".adaptation.theta_hat0", n > 0 ? n : -1);
+  c.tau = r.getDouble(p + ".velocity_estimator.tau");
+  c.c_e = r.getDouble(p + ".attention.c_e");
+  c.c_ed = r.getDouble(p + ".attention.c_ed");
+  c.hidden = static_cast<int>(r.getInt(p + ".preadaptation.hidden"));
+  c.init_scale = r.getDouble(p + ".preadaptation.init_scale");
+  const std::int64_t seed = r.getInt(p + ".preadaptation.seed");
+  if (seed < 0) r.fail(p + ".preadaptation.seed", "must be >= 0, got " + std::to_string(seed));
+  c.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+  c.gamma_pa = r.getDouble(p + ".preadaptation.gamma_pa");
+  c.validate(r, n, p);
+  return c;
+}
+
+void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) const {
+  auto positive = [&](const std::string& key, double v) {
+    if (r.has(key) && !(v > 0.0)) r.fail(key, "must be > 0, got " + std::to_string(v));
+  };
+  positive(p + ".sample_time", sample_time);
+  positive(p + ".lqr.R", R);
+  positive(p + ".adaptation.gamma", gamma);
+  positive(p + ".attention.c_e", c_e);
+  positive(p + ".attention.c_ed", c_ed);
+  positive(p + ".preadaptation.gamma_pa", gamma_pa);
+  if (r.has(p + ".velocity_estimator.tau") && !(tau >= 0.0))
+    r.fail(p + ".velocity_estimator.tau", "must be >= 0, got " + std::to_string(tau));
+  if (r.has(p + ".preadaptation.init_scale") && !(init_scale >= 0.0))
+    r.fail(p + ".preadaptation.init_scale", "must be >= 0, got " + std::to_string(init_scale));
+  if (r.has(p + ".preadaptation.hidden") && (hidden < 1 || hidden > kMaxHidden))
+    r.fail(p + ".preadaptation.hidden", "must be in [1, " + std::to_string(kMaxHidden) + "], got " +
+                                            std::to_string(hidden));
+  if (n > 0 && Q.rows() == n && Q.cols() == n) {
+    if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
+      r.fail(p + ".lqr.Q", "must be symmetric");
+    else if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Q).eigenvalues().minCoeff() <
+             -1e-12 * std::max(1.0, Q.norm()))
+      r.fail(p + ".lqr.Q", "must be positive semi-definite");
+  }
+}
+
+double VelocityEstimator::update(double e) {
+  if (!primed_) {
+    primed_ = true;
+    prev_ = e;
+    value_ = 0.0;
+    return value_;
+  }
+  value_ = (tau_ * value_ + (e - prev_)) / (tau_ + dt_);
+  prev_ = e;
+  return value_;
+}
+
+Attention::Result Attention::update(double e, double e_dot) {
+  const double s = std::abs(e) - c_e_;
+  if (!primed_) {
+    primed_ = true;
+    s_prev_ = s;
+    return Result::kNone;
+  }
+  const bool up = s_prev_ < 0.0 && s >= 0.0;
+  const bool down = s_prev_ > 0.0 && s <= 0.0;
+  s_prev_ = s;
+  if (up && std::abs(e_dot) > c_ed_) {
+    if (active_) return Result::kIgnoredOnset;
+    active_ = true;
+    return Result::kOnset;
+  }
+  if (down && std::abs(e_dot) < c_ed_) {
+    if (!active_) return Result::kIgnoredRecovery;
+    active_ = false;
+    return Result::kRecovered;
+  }
+  return Result::kNone;
+}
+
+SensitivityTracker::SensitivityTracker(const Mat& Ar, const Vec& B, const Vec& PB, double gamma,
+                                       int out)
+    : Ar_(Ar), B_(B), PB_(PB), gamma_(gamma), out_(out), n_(static_cast<int>(Ar.rows())) {
+  S_.setZero(2 * n_, n_);
+  Sdot_.setZero(2 * n_, n_);
+  g_.setZero(n_);
+}
+
+void SensitivityTracker::start() {
+  S_.setZero(2 * n_, n_);
+  S_.bottomRows(n_).setIdentity();
+  E_ = 0.0;
+  g_.setZero(n_);
+}
+
+PiMat SensitivityTracker::pi(const Vec& ev, const Vec& x, const Vec& theta_err) const {
+  PiMat P = PiMat::Zero(2 * n_, 2 * n_);
+  P.topLeftCorner(n_, n_) = Ar_ + B_ * theta_err.transpose();
+  P.topRightCorner(n_, n_) = -B_ * x.transpose();
+  P.bottomLeftCorner(n_, n_) = gamma_ * ev.dot(PB_) * Mat::Identity(n_, n_) +
+                               gamma_ * x * PB_.transpose();
+  return P;
+}
+
+void SensitivityTracker::accumulate(double dt, const Vec& ev, const Vec& x, const Vec& theta_err) {
+  const double e = ev[out_];
+  E_ += std::abs(e) * dt;
+  const double sgn = (e > 0.0) - (e < 0.0);
+  g_ += (sgn * dt) * S_.row(out_).transpose();
+  // S_dot = Pi S without forming Pi: the blocks are rank-one updates of A_r and the identity.
+  const auto top = S_.topRows(n_);
+  const auto bot = S_.bottomRows(n_);
+  Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, kMaxStates> row1, row2, row3;
+  row1.noalias() = theta_err.transpose() * top;
+  row2.noalias() = x.transpose() * bot;
+  row3.noalias() = PB_.transpose() * top;
+  Sdot_.topRows(n_).noalias() = Ar_ * top;
+  Sdot_.topRows(n_).noalias() += B_ * (row1 - row2);
+  Sdot_.bottomRows(n_) = (gamma_ * ev.dot(PB_)) * top;
+  Sdot_.bottomRows(n_).noalias() += gamma_ * x * row3;
+  S_ += dt * Sdot_;
+}
+
+Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
+    : cfg_(cfg),
+      design_(designController(plant.A, plant.B, cfg.Q, cfg.R)),
+      n_(plant.n()),
+      out_(plant.output_index),
+      dt_(cfg.sample_time),
+      vel_(cfg.tau, cfg.sample_time),
+      attention_(cfg.c_e, cfg.c_ed),
+      net_(cfg.hidden, plant.n(), cfg.seed, cfg.init_scale) {
+  K_ = design_.K.transpose();
+  B_ = plant.B;
+  PB_ = design_.P * plant.B;
+  b_ref_ = plant.B1r + cfg.k0 * plant.B;
+  const Eigen::MatrixXd M = design_.Ar * dt_;
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n_, n_);
+  const Eigen::MatrixXd M2 = M * M, M3 = M2 * M, M4 = M3 * M;
+  // Classic RK4 applied to x_r' = A_r x_r + b r with r held: exactly these polynomials.
+  Phi_r_ = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
+  Gam_r_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * b_ref_;
+  x0_ = plant.x0;
+  sens_ = SensitivityTracker(design_.Ar, B_, PB_, cfg.gamma, out_);
+  ev_.setZero(n_);
+  theta_err_.setZero(n_);
+  reset();
+}
+
+void Controller::reset() {
+  x_r_ = x0_;
+  theta_hat_ = cfg_.theta_hat0;
+  vel_.reset();
+  attention_.reset();
+  phase_cost_ = 0.0;
+}
+
+void Controller::setNetwork(const NetworkState& s) {
+  if (s.hidden() != cfg_.hidden || s.outputs() != n_)
+    throw std::invalid_argument("network has " + std::to_string(s.hidden()) + " hidden x " +
+                                std::to_string(s.outputs()) + " outputs, the controller needs " +
+                                std::to_string(cfg_.hidden) + " x " + std::to_string(n_));
+  net_ = PreadaptNetwork(s);
+}
+
+StepOutput Controller::step(const StepInput& in) {
+  const Vec& x = *in.x;
+  const bool learning = cfg_.mode == Mode::kPaLearn || cfg_.mode == Mode::kPaLearnExact;
+  if (cfg_.mode == Mode::kPaLearnExact && in.theta_true == nullptr)
+    throw std::invalid_argument("mode pa_learn_exact needs the true theta at every step");
+
+  StepOutput out;
+  ev_ = x - x_r_;
+  out.e = ev_[out_];
+  out.e_dot = vel_.update(out.e);
+
+  const Attention::Result att = attention_.update(out.e, out.e_dot);
+  if (att != Attention::Result::kNone) {
+    Event ev;
+    ev.t = in.t;
+    ev.e = out.e;
+    ev.e_dot = out.e_dot;
+    ev.theta_hat_before = theta_hat_;
+    switch (att) {
+      case Attention::Result::kOnset:
+        ev.type = Event::Type::kOnset;
+        phase_cost_ = 0.0;
+        if (cfg_.mode != Mode::kRac) {
+          z_onset_ << out.e, std::abs(out.e_dot);
+          net_.forward(z_onset_, &theta_hat_);
+          ev.reset = true;
+          if (learning) sens_.start();
+        }
+        break;
+      case Attention::Result::kRecovered:
+        ev.type = Event::Type::kRecovered;
+        ev.cost = phase_cost_;
+        if (learning) {
+          ev.grad = sens_.grad();
+          net_.learn(z_onset_, sens_.grad(), cfg_.gamma_pa);
+          ev.learned = true;
+        }
+        break;
+      case Attention::Result::kIgnoredOnset: ev.type = Event::Type::kIgnoredOnset; break;
+      case Attention::Result::kIgnoredRecovery: ev.type = Event::Type::kIgnoredRecovery; break;
+      case Attention::Result::kNone: break;
+    }
+    ev.theta_hat_after = theta_hat_;
+    ev.episodes = net_.state().episodes;
+    out.event = ev;
+  }
+
+  out.u_baseline = -K_.dot(x);
+  out.u_adaptive = -theta_hat_.dot(x) + cfg_.k0 * in.r;
+  out.u = out.u_baseline + out.u_adaptive;
+  out.x_ref = x_r_;
+  out.theta_hat = theta_hat_;
+
+  if (attention_.phaseActive()) {
+    phase_cost_ += std::abs(out.e) * dt_;
+    if (learning) {
+      if (cfg_.mode == Mode::kPaLearnExact)
+        theta_err_ = *in.theta_true - theta_hat_;
+      else
+        theta_err_.setZero();
+      sens_.accumulate(dt_, ev_, x, theta_err_);
+    }
+  }
+  // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x.
+  theta_hat_ += (dt_ * cfg_.gamma * ev_.dot(PB_)) * x;
+  // Reference model (eq. refmodel), RK4 with r held over the sample.
+  x_r_ = Phi_r_ * x_r_ + Gam_r_ * in.r;
+  return out;
+}
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,115 @@
+#include "cli_common.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+#include "preadaptive_mrac/io/weights_io.hpp"
+#include "preadaptive_mrac/io/yaml_params.hpp"
+
+namespace preadaptive_mrac {
+namespace cli {
+
+double parseDouble(const std::string& flag, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(v))
+    throw UsageError(flag + ": expected a finite number, got '" + text + "'");
+  return v;
+}
+
+std::uint64_t parseSeed(const std::string& flag, const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    throw UsageError(flag + ": expected a non-negative integer, got '" + text + "'");
+  try {
+    return std::stoull(text);
+  } catch (const std::exception&) {
+    throw UsageError(flag + ": integer out of range: '" + text + "'");
+  }
+}
+
+std::vector<std::string> splitTopLevel(const std::string& text) {
+  std::vector<std::string> out;
+  std::string cur;
+  int depth = 0;
+  for (char c : text) {
+    if (c == '[' || c == '{') ++depth;
+    if (c == ']' || c == '}') --depth;
+    if (c == ',' && depth == 0) {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+PreparedRun prepare(const RunRequest& req) {
+  PreparedRun run;
+  ParamValue tree = ParamValue::makeMap();
+  const std::string plant = req.plant_path.empty() ? defaultPlantPath() : req.plant_path;
+  const std::string controller =
+      req.controller_path.empty() ? defaultControllerPath() : req.controller_path;
+  try {
+    tree.merge(loadYamlFile(plant));
+    tree.merge(loadYamlFile(controller));
+    tree.merge(loadYamlFile(scenarioPath(req.scenario)));
+    for (const auto& s : req.sets) applyOverride(&tree, s);
+  } catch (const FileError& e) {
+    throw UsageError(e.what());
+  }
+  if (req.mode) {
+    if (!parseMode(*req.mode))
+      throw UsageError("--mode: unknown mode '" + *req.mode +
+                       "' (expected rac, pa, pa_learn or pa_learn_exact)");
+    tree.setPath("controller.mode", ParamValue::makeString(*req.mode));
+  }
+  if (req.seed)
+    tree.setPath("controller.preadaptation.seed",
+                 ParamValue::makeInt(static_cast<std::int64_t>(*req.seed)));
+  if (req.dt) {
+    if (!(*req.dt > 0.0)) throw UsageError("--dt: must be > 0, got " + std::to_string(*req.dt));
+    tree.setPath("controller.sample_time", ParamValue::makeDouble(*req.dt));
+  }
+  Sections sections;
+  sections.strict_top_level = true;
+  try {
+    run.cfg = readRunConfig(tree, KeyStyle{}, sections);
+  } catch (const ConfigError& e) {
+    std::string line;
+    for (const auto& p : e.problems()) line += (line.empty() ? "" : "; ") + p;
+    throw UsageError("invalid configuration: " + line);
+  }
+  if (!req.weights_in.empty()) {
+    try {
+      run.weights = loadWeights(req.weights_in, run.cfg.controller.hidden, run.cfg.plant.n());
+    } catch (const WeightsError& e) {
+      throw UsageError(std::string("--weights-in: ") + e.what());
+    }
+  }
+  run.info.scenario = req.scenario;
+  run.info.mode = modeName(run.cfg.controller.mode);
+  run.info.seed = run.cfg.controller.seed;
+  run.info.dt = run.cfg.controller.sample_time;
+  run.info.overrides = req.sets;
+  return run;
+}
+
+SimResult execute(const PreparedRun& run, bool record_series,
+                  std::unique_ptr<Controller>* controller) {
+  auto ctl = std::make_unique<Controller>(run.cfg.plant, run.cfg.controller);
+  if (run.weights) ctl->setNetwork(*run.weights);
+  ClosedLoop loop(run.cfg.plant, run.cfg.scenario, ctl.get());
+  SimOptions opt;
+  opt.dt = run.cfg.controller.sample_time;
+  opt.record_series = record_series;
+  SimResult res = loop.run(opt);
+  if (controller) *controller = std::move(ctl);
+  return res;
+}
+
+}  // namespace cli
+}  // namespace preadaptive_mrac

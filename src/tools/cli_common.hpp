@@ -1,0 +1,54 @@
+#pragma once
+/// \file cli_common.hpp
+/// \brief What preadapt_sim and preadapt_sweep share: loading the layered YAML, applying
+/// overrides and flags, running one closed loop, and usage errors (exit code 2).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "preadaptive_mrac/io/setup.hpp"
+
+namespace preadaptive_mrac {
+namespace cli {
+
+/// \brief Bad command line or input; the tool prints it on one line and exits with code 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief One run as the command line describes it.
+struct RunRequest {
+  std::string scenario = "1";
+  std::string plant_path;       ///< empty: the package's config/plant/b747.yaml
+  std::string controller_path;  ///< empty: config/controller/default.yaml
+  std::optional<std::string> mode;
+  std::optional<std::uint64_t> seed;
+  std::optional<double> dt;
+  std::vector<std::string> sets;  ///< key=value, applied after the files, before the flags
+  std::string weights_in;
+};
+
+/// \brief A run ready to go: validated configuration and its identification.
+struct PreparedRun {
+  RunConfig cfg;
+  RunInfo info;
+  std::optional<NetworkState> weights;  ///< from weights_in
+};
+
+/// \brief Load files, apply --set and flags, validate everything. Throws UsageError.
+PreparedRun prepare(const RunRequest& req);
+/// \brief Run the closed loop; `controller` receives the controller (for its final network).
+SimResult execute(const PreparedRun& run, bool record_series, std::unique_ptr<Controller>* controller);
+
+double parseDouble(const std::string& flag, const std::string& text);
+std::uint64_t parseSeed(const std::string& flag, const std::string& text);
+/// \brief Split on commas that are not inside brackets ("0.1,[1,2,3]" -> 2 items).
+std::vector<std::string> splitTopLevel(const std::string& text);
+
+}  // namespace cli
+}  // namespace preadaptive_mrac

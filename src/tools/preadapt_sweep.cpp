@@ -1,0 +1,208 @@
+/// \file preadapt_sweep.cpp
+/// \brief Many batch runs in parallel: seeds x modes x a grid of settings, one JSON line each.
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "cli_common.hpp"
+
+using namespace preadaptive_mrac;
+
+namespace {
+const char* kUsage =
+    "usage: preadapt_sweep --scenario <1|2|3|path.yaml> [--modes rac,pa_learn,...]\n"
+    "                      [--seeds 1-20 | --seeds 1,5,9] [--grid key=v1,v2,...]...\n"
+    "                      [--set key=value]... [--dt S] [--jobs N]\n"
+    "                      [--plant plant.yaml] [--controller controller.yaml]\n"
+    "Runs the cartesian product of modes, seeds and every --grid axis on N threads\n"
+    "(default: all cores) and prints one JSON line per run, in a fixed order, each with\n"
+    "a \"grid\" object naming its settings and an \"index\". Exit code 2 on bad input.\n"
+    "Example: preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 \\\n"
+    "           --grid controller.attention.c_e=0.003,0.005,0.01\n";
+
+std::string need(int argc, char** argv, int* i) {
+  const std::string flag = argv[*i];
+  if (*i + 1 >= argc) throw cli::UsageError(flag + ": missing value");
+  return argv[++*i];
+}
+
+std::vector<std::uint64_t> parseSeeds(const std::string& text) {
+  std::vector<std::uint64_t> out;
+  for (const auto& part : cli::splitTopLevel(text)) {
+    const auto dash = part.find('-');
+    if (dash != std::string::npos && dash > 0) {
+      const auto a = cli::parseSeed("--seeds", part.substr(0, dash));
+      const auto b = cli::parseSeed("--seeds", part.substr(dash + 1));
+      if (b < a) throw cli::UsageError("--seeds: empty range '" + part + "'");
+      if (b - a > 1000000) throw cli::UsageError("--seeds: range too large '" + part + "'");
+      for (auto s = a; s <= b; ++s) out.push_back(s);
+    } else {
+      out.push_back(cli::parseSeed("--seeds", part));
+    }
+  }
+  return out;
+}
+
+struct Axis {
+  std::string key;
+  std::vector<std::string> values;
+};
+
+std::string jsonEscape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    cli::RunRequest base;
+    std::vector<std::string> modes;
+    std::vector<std::uint64_t> seeds;
+    std::vector<Axis> axes;
+    unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+    bool have_scenario = false;
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--help" || a == "-h") {
+        std::cout << kUsage;
+        return 0;
+      } else if (a == "--scenario") {
+        base.scenario = need(argc, argv, &i);
+        have_scenario = true;
+      } else if (a == "--modes" || a == "--mode") {
+        for (const auto& m : cli::splitTopLevel(need(argc, argv, &i))) {
+          if (!parseMode(m))
+            throw cli::UsageError("--modes: unknown mode '" + m +
+                                  "' (expected rac, pa, pa_learn or pa_learn_exact)");
+          modes.push_back(m);
+        }
+      } else if (a == "--seeds") {
+        seeds = parseSeeds(need(argc, argv, &i));
+      } else if (a == "--grid") {
+        const std::string g = need(argc, argv, &i);
+        const auto eq = g.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == g.size())
+          throw cli::UsageError("--grid '" + g + "': expected key=v1,v2,...");
+        axes.push_back({g.substr(0, eq), cli::splitTopLevel(g.substr(eq + 1))});
+      } else if (a == "--set") {
+        base.sets.push_back(need(argc, argv, &i));
+      } else if (a == "--dt") {
+        base.dt = cli::parseDouble("--dt", need(argc, argv, &i));
+      } else if (a == "--jobs") {
+        const auto j = cli::parseSeed("--jobs", need(argc, argv, &i));
+        if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
+        jobs = static_cast<unsigned>(j);
+      } else if (a == "--plant") {
+        base.plant_path = need(argc, argv, &i);
+      } else if (a == "--controller") {
+        base.controller_path = need(argc, argv, &i);
+      } else {
+        throw cli::UsageError("unknown argument '" + a + "' (see --help)");
+      }
+    }
+    if (!have_scenario) throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+
+    // Build the run list: modes x seeds x grid (last axis fastest). Prepare (and so validate)
+    // every run before starting any, so a bad grid value fails fast with exit code 2.
+    struct Job {
+      cli::PreparedRun run;
+      std::vector<std::pair<std::string, std::string>> grid;
+    };
+    std::vector<Job> jobs_list;
+    std::vector<std::optional<std::string>> mode_list;
+    if (modes.empty()) mode_list.push_back(std::nullopt);
+    for (const auto& m : modes) mode_list.push_back(m);
+    std::vector<std::optional<std::uint64_t>> seed_list;
+    if (seeds.empty()) seed_list.push_back(std::nullopt);
+    for (auto s : seeds) seed_list.push_back(s);
+    size_t grid_count = 1;
+    for (const auto& ax : axes) grid_count *= ax.values.size();
+    for (const auto& m : mode_list)
+      for (const auto& s : seed_list)
+        for (size_t g = 0; g < grid_count; ++g) {
+          cli::RunRequest req = base;
+          req.mode = m;
+          req.seed = s;
+          Job job;
+          size_t rest = g;
+          std::vector<std::string> extra;
+          for (auto it = axes.rbegin(); it != axes.rend(); ++it) {
+            const std::string& v = it->values[rest % it->values.size()];
+            rest /= it->values.size();
+            job.grid.insert(job.grid.begin(), {it->key, v});
+          }
+          for (const auto& kv : job.grid) req.sets.push_back(kv.first + "=" + kv.second);
+          job.run = cli::prepare(req);
+          jobs_list.push_back(std::move(job));
+        }
+
+    std::vector<std::string> lines(jobs_list.size());
+    std::vector<char> ready(jobs_list.size(), 0);
+    std::atomic<size_t> next{0};
+    std::mutex mu;
+    std::condition_variable cv;
+    std::string failure;
+    auto worker = [&] {
+      for (;;) {
+        const size_t i = next.fetch_add(1);
+        if (i >= jobs_list.size()) return;
+        Job& job = jobs_list[i];
+        std::string line;
+        try {
+          const auto t0 = std::chrono::steady_clock::now();
+          std::unique_ptr<Controller> ctl;
+          SimResult res = cli::execute(job.run, false, &ctl);
+          job.run.info.wall_time_s =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          line = runSummaryJson(job.run.info, *ctl, res);
+          std::string grid = "{";
+          for (size_t k = 0; k < job.grid.size(); ++k)
+            grid += (k ? ",\"" : "\"") + jsonEscape(job.grid[k].first) + "\":\"" +
+                    jsonEscape(job.grid[k].second) + "\"";
+          grid += "}";
+          line = "{\"index\":" + std::to_string(i) + ",\"grid\":" + grid + "," + line.substr(1);
+        } catch (const std::exception& e) {
+          std::lock_guard<std::mutex> lk(mu);
+          if (failure.empty()) failure = "run " + std::to_string(i) + ": " + e.what();
+        }
+        {
+          std::lock_guard<std::mutex> lk(mu);
+          lines[i] = std::move(line);
+          ready[i] = 1;
+        }
+        cv.notify_all();
+      }
+    };
+    std::vector<std::thread> pool;
+    const unsigned n_threads = std::min<unsigned>(jobs, static_cast<unsigned>(jobs_list.size()));
+    for (unsigned t = 0; t < n_threads; ++t) pool.emplace_back(worker);
+    // Print in index order as runs complete, so output streams and stays deterministic.
+    for (size_t i = 0; i < jobs_list.size(); ++i) {
+      std::unique_lock<std::mutex> lk(mu);
+      cv.wait(lk, [&] { return ready[i] != 0; });
+      if (!lines[i].empty()) std::cout << lines[i] << '\n' << std::flush;
+    }
+    for (auto& t : pool) t.join();
+    if (!failure.empty()) {
+      std::cerr << "preadapt_sweep: error: " << failure << std::endl;
+      return 1;
+    }
+    return 0;
+  } catch (const cli::UsageError& e) {
+    std::cerr << "preadapt_sweep: error: " << e.what() << std::endl;
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "preadapt_sweep: error: " << e.what() << std::endl;
+    return 1;
+  }
+}
