@@ -68,7 +68,7 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
 
 void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) const {
   auto positive = [&](const std::string& key, double v) {
-    if (r.has(key) && !(v > 0.0)) r.fail(key, "must be > 0, got " + std::to_string(v));
+    if (r.usable(key) && !(v > 0.0)) r.fail(key, "must be > 0, got " + formatNumber(v));
   };
   positive(p + ".sample_time", sample_time);
   positive(p + ".lqr.R", R);
@@ -76,14 +76,14 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
   positive(p + ".attention.c_e", c_e);
   positive(p + ".attention.c_ed", c_ed);
   positive(p + ".preadaptation.gamma_pa", gamma_pa);
-  if (r.has(p + ".velocity_estimator.tau") && !(tau >= 0.0))
-    r.fail(p + ".velocity_estimator.tau", "must be >= 0, got " + std::to_string(tau));
-  if (r.has(p + ".preadaptation.init_scale") && !(init_scale >= 0.0))
-    r.fail(p + ".preadaptation.init_scale", "must be >= 0, got " + std::to_string(init_scale));
-  if (r.has(p + ".preadaptation.hidden") && (hidden < 1 || hidden > kMaxHidden))
+  if (r.usable(p + ".velocity_estimator.tau") && !(tau >= 0.0))
+    r.fail(p + ".velocity_estimator.tau", "must be >= 0, got " + formatNumber(tau));
+  if (r.usable(p + ".preadaptation.init_scale") && !(init_scale >= 0.0))
+    r.fail(p + ".preadaptation.init_scale", "must be >= 0, got " + formatNumber(init_scale));
+  if (r.usable(p + ".preadaptation.hidden") && (hidden < 1 || hidden > kMaxHidden))
     r.fail(p + ".preadaptation.hidden", "must be in [1, " + std::to_string(kMaxHidden) + "], got " +
                                             std::to_string(hidden));
-  if (n > 0 && Q.rows() == n && Q.cols() == n) {
+  if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
     if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
       r.fail(p + ".lqr.Q", "must be symmetric");
     else if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Q).eigenvalues().minCoeff() <
@@ -210,6 +210,16 @@ void Controller::setNetwork(const NetworkState& s) {
                                 std::to_string(s.outputs()) + " outputs, the controller needs " +
                                 std::to_string(cfg_.hidden) + " x " + std::to_string(n_));
   net_ = PreadaptNetwork(s);
+}
+
+void Controller::startPhase(const Vec& theta_I) {
+  if (theta_I.size() != n_)
+    throw std::invalid_argument("startPhase: theta_I must have " + std::to_string(n_) + " entries");
+  theta_hat_ = theta_I;
+  attention_.forceActive();
+  phase_cost_ = 0.0;
+  z_onset_.setZero();
+  sens_.start();
 }
 
 StepOutput Controller::step(const StepInput& in) {

@@ -1,6 +1,8 @@
 #include "preadaptive_mrac/core/params.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 namespace preadaptive_mrac {
@@ -100,7 +102,15 @@ const ParamValue* ParamValue::findPath(const std::string& dotted) const {
 
 void ParamValue::setPath(const std::string& dotted, ParamValue v) {
   ParamValue* cur = this;
-  for (const auto& part : splitDotted(dotted)) cur = &cur->child(part);
+  for (const auto& part : splitDotted(dotted)) {
+    if (cur->type_ == Type::kList && !part.empty() &&
+        part.find_first_not_of("0123456789") == std::string::npos &&
+        std::stoul(part) < cur->list_.size()) {
+      cur = &cur->list_[std::stoul(part)];
+      continue;
+    }
+    cur = &cur->child(part);
+  }
   *cur = std::move(v);
 }
 
@@ -370,7 +380,25 @@ std::vector<std::string> ParamReader::unusedUnder(const std::string& dotted) con
 }
 
 void ParamReader::fail(const std::string& dotted, const std::string& what) {
+  failed_.insert(dotted);
   problems_.push_back(name(dotted) + ": " + what);
+}
+
+bool ParamReader::failed(const std::string& dotted) const {
+  for (const auto& f : failed_) {
+    if (f.compare(0, dotted.size(), dotted) != 0) continue;
+    if (f.size() == dotted.size() || f[dotted.size()] == '[' || f[dotted.size()] == '.') return true;
+  }
+  return false;
+}
+
+std::string formatNumber(double v) {
+  char buf[40];
+  for (int prec = 6; prec <= 17; ++prec) {
+    std::snprintf(buf, sizeof(buf), "%.*g", prec, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
 }
 
 void ParamReader::failGeneral(const std::string& what) { problems_.push_back(what); }

@@ -30,9 +30,9 @@ namespace {
 // `until` of segment i, checked to be > 0 and increasing.
 double readUntil(ParamReader& r, const std::string& key, double prev) {
   const double until = r.getDouble(key);
-  if (r.has(key) && !(until > prev))
-    r.fail(key, "segments must end at increasing times > " + std::to_string(prev) + ", got " +
-                    std::to_string(until));
+  if (r.usable(key) && !(until > prev))
+    r.fail(key, "segments must end at increasing times > " + formatNumber(prev) + ", got " +
+                    formatNumber(until));
   return until;
 }
 }  // namespace
@@ -80,8 +80,8 @@ Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
     }
     if (!sc.reference.empty() && !sc.theta.empty() && sc.reference.back().until < sc.endTime())
       r.fail(rk, "the last reference segment must reach the scenario end " +
-                     std::to_string(sc.endTime()) + " s, it ends at " +
-                     std::to_string(sc.reference.back().until) + " s");
+                     formatNumber(sc.endTime()) + " s, it ends at " +
+                     formatNumber(sc.reference.back().until) + " s");
   }
   return sc;
 }

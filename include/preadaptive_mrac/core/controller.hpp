@@ -110,6 +110,8 @@ class Attention {
   /// \brief Evaluate one sample of e and its estimated rate.
   Result update(double e, double e_dot);
   bool phaseActive() const { return active_; }
+  /// \brief Enter a phase without an onset (an externally triggered phase).
+  void forceActive() { active_ = true; }
   void reset() { primed_ = false; active_ = false; }
 
  private:
@@ -171,6 +173,14 @@ class Controller {
   const PreadaptNetwork& network() const { return net_; }
   /// \brief Replace the network (e.g. loaded weights); sizes must match hidden x n.
   void setNetwork(const NetworkState& s);
+  /// \brief Start an adaptation phase now, as an onset would, with theta_hat reset to theta_I
+  /// (an external trigger; also how a fixed phase is studied). The phase ends at the next
+  /// recovery event; learning modes then update the network as usual.
+  void startPhase(const Vec& theta_I);
+  /// \brief E = integral |e| dt since the phase began [rad s].
+  double phaseCost() const { return phase_cost_; }
+  /// \brief dE/dtheta_hat_I accumulated since the phase began (learning modes).
+  const Vec& phaseGradient() const { return sens_.grad(); }
   /// \brief True in pa_learn_exact, which needs StepInput::theta_true.
   bool needsTruth() const { return cfg_.mode == Mode::kPaLearnExact; }
 

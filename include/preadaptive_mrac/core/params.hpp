@@ -70,6 +70,9 @@ class ParamValue {
   std::map<std::string, ParamValue> map_;
 };
 
+/// \brief A number as a message shows it: shortest round-trip form ("0.005", "1e-09", "nan").
+std::string formatNumber(double v);
+
 /// \brief Thrown when configuration is invalid; what() holds every problem, one a line.
 class ConfigError : public std::runtime_error {
  public:
@@ -130,6 +133,11 @@ class ParamReader {
 
   const std::vector<std::string>& problems() const { return problems_; }
   bool ok() const { return problems_.empty(); }
+  /// \brief True when a problem was already recorded for this key or an element of it,
+  /// so a validation rule does not pile a second message on a value that was never read.
+  bool failed(const std::string& dotted) const;
+  /// \brief True when the key is present and nothing is wrong with it so far.
+  bool usable(const std::string& dotted) const { return has(dotted) && !failed(dotted); }
   /// \brief Throw ConfigError with all problems, if any.
   void throwIfProblems() const;
 
@@ -142,6 +150,7 @@ class ParamReader {
   const ParamValue& root_;
   KeyStyle style_;
   std::set<std::string> used_;
+  std::set<std::string> failed_;
   std::vector<std::string> problems_;
 };
 

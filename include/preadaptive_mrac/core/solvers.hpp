@@ -61,9 +61,14 @@ struct ControllerDesign {
   double lyapunov_residual = 0.0;
 };
 
-/// \brief K from the CARE, A_r = A - B K, P from the Lyapunov equation; refuses when
-/// A_r is not Hurwitz or P is not positive definite.
+/// \brief K from the CARE, then designFromGain().
 ControllerDesign designController(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
                                   const Eigen::MatrixXd& Q, double R);
+/// \brief A_r = A - B K and P from A_r^T P + P A_r = -I for a given gain; refuses (SolverError
+/// not_hurwitz / p_not_positive_definite) when A_r is not Hurwitz or P is not positive definite.
+ControllerDesign designFromGain(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
+                                const Eigen::RowVectorXd& K);
+/// \brief Throw SolverError p_not_positive_definite unless the symmetric matrix is > 0.
+void requirePositiveDefinite(const Eigen::MatrixXd& P, const std::string& name);
 
 }  // namespace preadaptive_mrac

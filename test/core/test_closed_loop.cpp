@@ -1,0 +1,157 @@
+// Closed loop: determinism, regular adaptive control's behaviour, metrics bookkeeping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "preadaptive_mrac/core/closed_loop.hpp"
+#include "test_helpers.hpp"
+
+using namespace preadaptive_mrac;
+
+namespace {
+std::string runJson(RunConfig cfg, Mode mode, std::uint64_t seed, SimResult* out = nullptr) {
+  cfg.controller.mode = mode;
+  cfg.controller.seed = seed;
+  Controller ctl(cfg.plant, cfg.controller);
+  ClosedLoop loop(cfg.plant, cfg.scenario, &ctl);
+  SimOptions opt;
+  opt.dt = cfg.controller.sample_time;
+  opt.record_series = out != nullptr;
+  SimResult res = loop.run(opt);
+  RunInfo info;
+  info.scenario = "1";
+  info.mode = modeName(mode);
+  info.seed = seed;
+  info.dt = opt.dt;
+  info.wall_time_s = 0.0;  // the only field that may differ between identical runs
+  const std::string j = runSummaryJson(info, ctl, res);
+  if (out) *out = std::move(res);
+  return j;
+}
+}  // namespace
+
+TEST(ClosedLoop, SameSeedGivesIdenticalJson) {
+  RunConfig cfg = test::packageConfig("1");
+  cfg.controller.c_ed = 0.015;  // detect every switch, so learning really runs
+  for (Mode m : {Mode::kPa, Mode::kPaLearn, Mode::kPaLearnExact}) {
+    const std::string a = runJson(cfg, m, 5), b = runJson(cfg, m, 5);
+    EXPECT_EQ(a, b) << modeName(m);
+    EXPECT_NE(a.find("\"events\":[{"), std::string::npos);
+  }
+}
+
+TEST(ClosedLoop, DifferentSeedsGiveDifferentInitialWeights) {
+  const RunConfig cfg = test::packageConfig("1");
+  PreadaptNetwork a(3, 3, 1, 1.0), b(3, 3, 2, 1.0), a2(3, 3, 1, 1.0);
+  EXPECT_GT((a.state().W - b.state().W).norm(), 1e-3);
+  EXPECT_GT((a.state().V - b.state().V).norm(), 1e-3);
+  EXPECT_EQ((a.state().W - a2.state().W).norm(), 0.0);
+  // Weights lie in [-scale, scale].
+  EXPECT_LE(a.state().W.cwiseAbs().maxCoeff(), 1.0);
+  // And the runs differ when preadaptation acts on them.
+  RunConfig c = cfg;
+  c.controller.c_ed = 0.015;
+  EXPECT_NE(runJson(c, Mode::kPa, 1), runJson(c, Mode::kPa, 2));
+}
+
+TEST(ClosedLoop, RegularAdaptiveControlStaysBoundedAndRecoversAfterEachSwitch) {
+  SimResult res;
+  runJson(test::packageConfig("1"), Mode::kRac, 1, &res);
+  const Series& s = res.series;
+  ASSERT_EQ(s.t.size(), 60000u);
+  for (size_t k = 0; k < s.t.size(); ++k) {
+    ASSERT_TRUE(s.x[k].allFinite());
+    ASSERT_LT(s.x[k].cwiseAbs().maxCoeff(), 1.0) << "t = " << s.t[k];
+    ASSERT_LT(s.theta_hat[k].cwiseAbs().maxCoeff(), 20.0) << "t = " << s.t[k];
+  }
+  // After every switch the error grows, then decays: over the last 2 s of each window the
+  // largest |e| is below a fifth of the window's peak, and alpha tracks r = 0.1 rad.
+  const auto& w = res.metrics.windows;
+  ASSERT_EQ(w.size(), 4u);
+  for (size_t i = 1; i < w.size(); ++i) {
+    double tail = 0.0;
+    for (size_t k = 0; k < s.t.size(); ++k)
+      if (s.t[k] > w[i].t_end - 2.0 && s.t[k] <= w[i].t_end) tail = std::max(tail, std::abs(s.e[k]));
+    EXPECT_GT(w[i].peak_abs_e, 0.005) << "window " << i;
+    EXPECT_LT(tail, 0.2 * w[i].peak_abs_e) << "window " << i;
+  }
+  EXPECT_NEAR(s.x.back()[1], 0.1, 2e-3);
+  // theta_hat never reset in rac: it only moves by adaptation (no jumps larger than one step's).
+  for (const Event& e : res.events) EXPECT_FALSE(e.reset);
+}
+
+TEST(ClosedLoop, MetricsMatchTheSeries) {
+  SimResult res;
+  runJson(test::packageConfig("1"), Mode::kRac, 1, &res);
+  const auto& w = res.metrics.windows;
+  double peak = 0.0, iae = 0.0, umax = 0.0;
+  double wpeak[4] = {0, 0, 0, 0};
+  for (size_t k = 0; k < res.series.t.size(); ++k) {
+    const double t = res.series.t[k], a = std::abs(res.series.e[k]);
+    peak = std::max(peak, a);
+    iae += a * 0.001;
+    umax = std::max(umax, std::abs(res.series.u[k]));
+    const int wi = t <= 5 ? 0 : t <= 20 ? 1 : t <= 45 ? 2 : 3;
+    wpeak[wi] = std::max(wpeak[wi], a);
+  }
+  EXPECT_DOUBLE_EQ(res.metrics.peak_abs_e, peak);
+  EXPECT_NEAR(res.metrics.iae, iae, 1e-12);
+  EXPECT_DOUBLE_EQ(res.metrics.max_abs_u, umax);
+  for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(w[static_cast<size_t>(i)].peak_abs_e, wpeak[i]);
+  EXPECT_DOUBLE_EQ(w[0].t_start, 0.0);
+  EXPECT_DOUBLE_EQ(w[1].t_start, 5.0);
+  EXPECT_DOUBLE_EQ(w[2].t_start, 20.0);
+  EXPECT_DOUBLE_EQ(w[3].t_start, 45.0);
+  EXPECT_DOUBLE_EQ(w[3].t_end, 60.0);
+  // Each RECOVERED event's cost is the integral of |e| since its onset.
+  for (size_t i = 0; i + 1 < res.events.size(); ++i) {
+    if (res.events[i].type != Event::Type::kOnset) continue;
+    const Event& rec = res.events[i + 1];
+    ASSERT_EQ(rec.type, Event::Type::kRecovered);
+    double E = 0.0;
+    for (size_t k = 0; k < res.series.t.size(); ++k)
+      if (res.series.t[k] >= res.events[i].t - 1e-9 && res.series.t[k] < rec.t - 1e-9)
+        E += std::abs(res.series.e[k]) * 0.001;
+    EXPECT_NEAR(rec.cost, E, 1e-12);
+  }
+}
+
+TEST(ClosedLoop, ThetaSwitchesRightAfterTheListedTime) {
+  const RunConfig cfg = test::packageConfig("1");
+  ScenarioPlant sim(cfg.plant, cfg.scenario, 0.001);
+  EXPECT_EQ(sim.totalSteps(), 60000);
+  EXPECT_DOUBLE_EQ(sim.theta()[0], 0.1);
+  while (sim.step() < 4999) sim.advance(0.0);
+  EXPECT_DOUBLE_EQ(sim.theta()[0], 0.1);  // step [4.999, 5.0]
+  sim.advance(0.0);
+  EXPECT_DOUBLE_EQ(sim.theta()[0], 1.0);  // step [5.0, 5.001]
+}
+
+TEST(ClosedLoop, ExactModeNeedsTruth) {
+  RunConfig cfg = test::packageConfig("1");
+  cfg.controller.mode = Mode::kPaLearnExact;
+  Controller ctl(cfg.plant, cfg.controller);
+  EXPECT_TRUE(ctl.needsTruth());
+  Vec x = Vec::Zero(3);
+  StepInput in;
+  in.x = &x;
+  EXPECT_THROW(ctl.step(in), std::invalid_argument);
+}
+
+TEST(ClosedLoop, PreadaptationResetsToTheNetworkOutput) {
+  RunConfig cfg = test::packageConfig("1");
+  cfg.controller.c_ed = 0.015;
+  SimResult res;
+  runJson(cfg, Mode::kPa, 3, &res);
+  PreadaptNetwork net(cfg.controller.hidden, 3, 3, cfg.controller.init_scale);
+  int onsets = 0;
+  for (const Event& e : res.events) {
+    if (e.type != Event::Type::kOnset) continue;
+    ++onsets;
+    ASSERT_TRUE(e.reset);
+    Vec th;
+    net.forward(NetInput(e.e, std::abs(e.e_dot)), &th);
+    EXPECT_LT((th - e.theta_hat_after).norm(), 1e-15);
+  }
+  EXPECT_GE(onsets, 3);
+}

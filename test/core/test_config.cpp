@@ -1,0 +1,165 @@
+// Configuration: every problem at once, named by key; the CLI's exit codes and JSON.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "test_helpers.hpp"
+
+using namespace preadaptive_mrac;
+
+namespace {
+std::vector<std::string> problemsOf(const ParamValue& tree, const KeyStyle& style = {}) {
+  try {
+    readRunConfig(tree, style);
+  } catch (const ConfigError& e) {
+    return e.problems();
+  }
+  return {};
+}
+bool mentions(const std::vector<std::string>& ps, const std::string& s) {
+  for (const auto& p : ps)
+    if (p.find(s) != std::string::npos) return true;
+  return false;
+}
+std::string joined(const std::vector<std::string>& ps) {
+  std::string o;
+  for (const auto& p : ps) o += p + "\n";
+  return o;
+}
+
+struct CmdResult {
+  int code;
+  std::string out;
+};
+CmdResult runCli(const std::string& args) {
+  const std::string cmd = std::string(PMRAC_SIM_BIN) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (fgets(buf, sizeof(buf), p)) out += buf;
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+std::string tmpFile(const std::string& name, const std::string& text) {
+  const std::string p = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_" + name;
+  std::ofstream(p) << text;
+  return p;
+}
+}  // namespace
+
+TEST(Config, PackageFilesAreValid) {
+  const RunConfig c = test::packageConfig("3");
+  EXPECT_EQ(c.plant.n(), 3);
+  EXPECT_EQ(c.scenario.theta.size(), 10u);
+  EXPECT_DOUBLE_EQ(c.scenario.endTime(), 140.0);
+  EXPECT_EQ(c.controller.mode, Mode::kPaLearn);
+  EXPECT_DOUBLE_EQ(c.controller.c_e, 0.005);
+}
+
+TEST(Config, EveryProblemAtOnceNamedByKey) {
+  ParamValue t = test::packageTree();
+  t.map()["controller"].map()["attention"].map().erase("c_e");                  // missing
+  t.setPath("controller.adaptation.gamma", ParamValue::makeString("ten"));      // wrong type
+  t.setPath("controller.attention.c_ed", ParamValue::makeDouble(-1));           // sign
+  t.setPath("controller.sample_time", ParamValue::makeDouble(std::nan("")));   // non-finite
+  t.setPath("plant.B", ParamValue::makeList({ParamValue::makeInt(1), ParamValue::makeInt(2)}));
+  t.setPath("controller.attention.ce", ParamValue::makeDouble(0.1));            // typo
+  t.setPath("scenario.theta.2.until", ParamValue::makeDouble(3.0));             // not increasing
+  const auto ps = problemsOf(t);
+  EXPECT_TRUE(mentions(ps, "controller.attention.c_e: missing")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "controller.adaptation.gamma: expected a number, got string")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "controller.attention.c_ed: must be > 0")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "controller.sample_time: expected a finite number")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "plant.B: expected 3 numbers")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "controller.attention.ce: unknown key")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "scenario.theta.2.until: segments must end at increasing times")) << joined(ps);
+  EXPECT_GE(ps.size(), 7u);
+}
+
+TEST(Config, RosStyleNamesAreFullyResolved) {
+  ParamValue t = test::packageTree();
+  t.map()["controller"].map()["attention"].map().erase("c_e");
+  const auto ps = problemsOf(t, KeyStyle{"/mrac_controller/", '/'});
+  EXPECT_TRUE(mentions(ps, "/mrac_controller/controller/attention/c_e: missing")) << joined(ps);
+}
+
+TEST(Config, NonStabilisablePlantIsRefusedNamingTheKey) {
+  ParamValue t = test::packageTree();
+  // Make the integrator unreachable and unstable: A(0,0) = 1 with B(0) = 0 and no coupling.
+  t.setPath("plant.A", ParamValue::makeList({
+                           ParamValue::makeList({ParamValue::makeDouble(1), ParamValue::makeDouble(0),
+                                                 ParamValue::makeDouble(0)}),
+                           ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-0.32),
+                                                 ParamValue::makeDouble(0.86)}),
+                           ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-0.93),
+                                                 ParamValue::makeDouble(-0.43)})}));
+  const auto ps = problemsOf(t);
+  EXPECT_TRUE(mentions(ps, "plant.A: (A, B) is not stabilisable")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "[not_stabilizable]")) << joined(ps);
+}
+
+TEST(Config, ScenarioSegments) {
+  ParamValue t = test::packageTree();
+  t.setPath("scenario.theta.1.theta",
+            ParamValue::makeList({ParamValue::makeDouble(1), ParamValue::makeDouble(2),
+                                  ParamValue::makeDouble(3)}));
+  auto ps = problemsOf(t);
+  EXPECT_TRUE(mentions(ps, "scenario.theta.1: give exactly one of 'scale'")) << joined(ps);
+  t.map()["scenario"].map()["theta"].list()[1].map().erase("scale");
+  const RunConfig c = readRunConfig(t);
+  EXPECT_DOUBLE_EQ(c.scenario.thetaAt(10.0)[2], 3.0);
+}
+
+TEST(Cli, JsonHasTheDocumentedFields) {
+  const CmdResult r = runCli("--scenario 1 --mode rac --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string last = r.out.substr(r.out.rfind('{', r.out.find("\"scenario\"")));
+  for (const char* key : {"\"scenario\":\"1\"", "\"mode\":\"rac\"", "\"seed\":", "\"dt\":0.001",
+                          "\"K\":[", "\"P\":[[", "\"events\":[", "\"windows\":[", "\"iae\":",
+                          "\"peak_abs_e\":", "\"max_abs_u\":", "\"wall_time_s\":",
+                          "\"recovery_time\":", "\"type\":\"onset\""})
+    EXPECT_NE(last.find(key), std::string::npos) << key;
+}
+
+TEST(Cli, BadInputIsExitCodeTwoWithOneLine) {
+  const std::string bad_yaml = tmpFile("bad.yaml", "scenario: {name: x, theta: [ {until: 1\n");
+  const std::string nan_yaml =
+      tmpFile("nan.yaml", "scenario:\n  name: x\n  theta:\n    - {until: 10, scale: .nan}\n");
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--scenario 1 --mode foo", "--mode: unknown mode 'foo'"},
+      {"--scenario 1 --mode rac --set controller.attention.cee=1", "controller.attention.cee: unknown key"},
+      {"--scenario 1 --mode rac --set nosuch.key=1", "nosuch: unknown key"},
+      {"--scenario /nonexistent/s.yaml --mode rac", "/nonexistent/s.yaml: cannot open file"},
+      {"--scenario " + bad_yaml + " --mode rac", "malformed YAML"},
+      {"--scenario " + nan_yaml + " --mode rac", "scenario.theta.0.scale: expected a finite number"},
+      {"--scenario 1 --mode rac --dt 0", "--dt: must be > 0"},
+      {"--scenario 1 --mode rac --dt -0.1", "--dt: must be > 0"},
+      {"--scenario 1 --mode rac --dt nan", "--dt: expected a finite number"},
+      {"--scenario 1 --mode rac --set controller.lqr.R=0", "controller.lqr.R: must be > 0"},
+      {"--scenario 1 --mode rac --seed -3", "--seed: expected a non-negative integer"},
+      {"--mode rac", "--scenario is required"},
+      {"--scenario 1 --bogus", "unknown argument '--bogus'"},
+      {"--scenario 1 --weights-in /nonexistent/w.yaml", "--weights-in: /nonexistent/w.yaml"},
+  };
+  for (const auto& c : cases) {
+    const CmdResult r = runCli(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << c.args << "\n" << r.out;
+  }
+}
+
+TEST(Cli, WeightsCarryOverBetweenRuns) {
+  const std::string w = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_w.yaml";
+  const std::string common = "--scenario 1 --mode pa_learn --set controller.attention.c_ed=0.015";
+  ASSERT_EQ(runCli(common + " --weights-out " + w).code, 0);
+  const CmdResult second = runCli(common + " --weights-in " + w + " --json");
+  ASSERT_EQ(second.code, 0) << second.out;
+  // Episodes continue from the first run's count (4 phases in scenario 1 with c_ed = 0.015).
+  EXPECT_NE(second.out.find("\"episodes\":8,\"theta_hat_final\""), std::string::npos) << second.out;
+}

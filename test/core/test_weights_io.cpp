@@ -1,0 +1,135 @@
+// Weights file: round trip, corrupt and mismatched files, atomic save.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "preadaptive_mrac/io/weights_io.hpp"
+
+using namespace preadaptive_mrac;
+
+namespace {
+std::string tmpDir() {
+  char tmpl[] = "/tmp/pmrac_weights_XXXXXX";
+  return mkdtemp(tmpl);
+}
+void writeFile(const std::string& p, const std::string& text) { std::ofstream(p) << text; }
+std::string readFile(const std::string& p) {
+  std::stringstream ss;
+  ss << std::ifstream(p).rdbuf();
+  return ss.str();
+}
+std::string errorOf(const std::string& text, int hidden = 3, int outputs = 3) {
+  try {
+    parseWeights(text, "w.yaml", hidden, outputs);
+  } catch (const WeightsError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+}  // namespace
+
+TEST(WeightsIo, SaveLoadGivesIdenticalOutputs) {
+  PreadaptNetwork net(3, 3, 99, 0.7);
+  // Learn once so the weights are not just the seeded ones.
+  Vec g(3);
+  g << 0.1, -0.2, 0.3;
+  net.learn(NetInput(0.005, 0.04), g, 10.0);
+  const std::string dir = tmpDir();
+  const std::string path = dir + "/w.yaml";
+  saveWeights(path, net.state());
+  const NetworkState back = loadWeights(path, 3, 3);
+  EXPECT_EQ(back.seed, 99u);
+  EXPECT_EQ(back.episodes, 1);
+  EXPECT_EQ(back.init_scale, 0.7);
+  EXPECT_EQ((back.W - net.state().W).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((back.V - net.state().V).cwiseAbs().maxCoeff(), 0.0);
+  PreadaptNetwork loaded(back);
+  for (double e : {-0.02, 0.005, 0.3}) {
+    Vec a, b;
+    net.forward(NetInput(e, 0.05), &a);
+    loaded.forward(NetInput(e, 0.05), &b);
+    EXPECT_EQ((a - b).cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
+TEST(WeightsIo, CorruptFilesAreClearErrors) {
+  const std::string good = weightsToYaml(PreadaptNetwork(3, 3, 1, 1.0).state());
+  EXPECT_EQ(errorOf(good), "no error");
+  // Truncated mid-way: W has too few rows.
+  const std::string truncated = good.substr(0, good.rfind("  - ["));
+  EXPECT_NE(errorOf(truncated).find("W"), std::string::npos) << errorOf(truncated);
+  // Not YAML at all.
+  EXPECT_NE(errorOf("V: [[1, 2\nW: ]]]").find("malformed YAML"), std::string::npos);
+  // Another format, another version.
+  std::string other = good;
+  other.replace(other.find("preadaptive_mrac/weights"), 24, "something/else");
+  EXPECT_NE(errorOf(other).find("format"), std::string::npos);
+  std::string v2 = good;
+  v2.replace(v2.find("version: 1"), 10, "version: 2");
+  EXPECT_NE(errorOf(v2).find("unsupported version 2"), std::string::npos);
+  // A NaN weight.
+  std::string nan = good;
+  nan.replace(nan.find("W:") + good.substr(good.find("W:")).find("[") + 1, 0, ".nan, ");
+  EXPECT_NE(errorOf(nan).find("W"), std::string::npos) << errorOf(nan);
+  // A missing field.
+  std::string noseed = good;
+  noseed.erase(noseed.find("seed:"), noseed.find('\n', noseed.find("seed:")) - noseed.find("seed:") + 1);
+  EXPECT_NE(errorOf(noseed).find("seed: missing"), std::string::npos) << errorOf(noseed);
+  // An unknown field is a typo, not silently ignored.
+  EXPECT_NE(errorOf(good + "extra: 1\n").find("extra: unknown key"), std::string::npos);
+}
+
+TEST(WeightsIo, MismatchedSizesAreClearErrors) {
+  const std::string h4 = weightsToYaml(PreadaptNetwork(4, 3, 1, 1.0).state());
+  const std::string err = errorOf(h4, 3, 3);
+  EXPECT_NE(err.find("hidden=4"), std::string::npos) << err;
+  EXPECT_NE(err.find("needs hidden=3"), std::string::npos) << err;
+  EXPECT_NE(errorOf(weightsToYaml(PreadaptNetwork(3, 2, 1, 1.0).state()), 3, 3).find("outputs=2"),
+            std::string::npos);
+  // Declared sizes that disagree with the matrices.
+  std::string lie = weightsToYaml(PreadaptNetwork(3, 3, 1, 1.0).state());
+  lie.replace(lie.find("hidden: 3"), 9, "hidden: 2");
+  EXPECT_NE(errorOf(lie, -1, -1).find("V"), std::string::npos) << errorOf(lie, -1, -1);
+}
+
+TEST(WeightsIo, MissingAndEmptyFiles) {
+  const std::string dir = tmpDir();
+  EXPECT_THROW(loadWeights(dir + "/nope.yaml"), WeightsError);
+  writeFile(dir + "/empty.yaml", "");
+  try {
+    loadWeights(dir + "/empty.yaml");
+    FAIL() << "empty file accepted";
+  } catch (const WeightsError& e) {
+    EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos);
+  }
+}
+
+TEST(WeightsIo, FailedSaveKeepsTheLastGoodFile) {
+  const std::string dir = tmpDir();
+  const std::string path = dir + "/w.yaml";
+  saveWeights(path, PreadaptNetwork(3, 3, 1, 1.0).state());
+  const std::string before = readFile(path);
+  // Target is a non-empty directory: the rename must fail and leave no temporary behind.
+  const std::string blocker = dir + "/blocked.yaml";
+  ASSERT_EQ(mkdir(blocker.c_str(), 0755), 0);
+  writeFile(blocker + "/keep", "x");
+  EXPECT_THROW(saveWeights(blocker, PreadaptNetwork(3, 3, 2, 1.0).state()), WeightsError);
+  // Directory without write permission is not usable as root; a missing directory is.
+  EXPECT_THROW(saveWeights(dir + "/missing/w.yaml", PreadaptNetwork(3, 3, 2, 1.0).state()),
+               WeightsError);
+  EXPECT_EQ(readFile(path), before);
+  int entries = 0;
+  FILE* ls = popen(("ls -A " + dir).c_str(), "r");
+  char buf[256];
+  while (fgets(buf, sizeof(buf), ls)) {
+    ++entries;
+    EXPECT_EQ(std::string(buf).find(".tmp."), std::string::npos) << buf;
+  }
+  pclose(ls);
+  EXPECT_EQ(entries, 2);  // w.yaml and blocked.yaml
+}
