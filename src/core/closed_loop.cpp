@@ -46,7 +46,12 @@ void MetricsAccumulator::addEvent(const Event& ev) {
 }
 
 ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario, double dt)
-    : plant_(plant), scenario_(scenario), dt_(dt) {
+    : plant_(plant),
+      scenario_(scenario),
+      dt_(dt),
+      limits_(plant.actuator),
+      noise_cfg_(plant.noise),
+      noise_(plant.noise.seed) {
   if (!(dt > 0.0)) throw std::invalid_argument("dt must be > 0");
   // Samples t_k = k dt with t_k < t_end (a tolerance guards against round-off in t_end / dt).
   steps_ = static_cast<std::int64_t>(std::ceil(scenario_.endTime() / dt_ - 1e-9));
@@ -56,6 +61,8 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
 void ScenarioPlant::reset() {
   plant_.reset();
   k_ = 0;
+  u_applied_ = 0.0;
+  noise_.reseed(noise_cfg_.seed);
   sampleInputs();
 }
 
@@ -63,10 +70,14 @@ void ScenarioPlant::sampleInputs() {
   const double t = time();
   r_ = scenario_.rAt(t);
   theta_ = scenario_.thetaAt(t + 0.5 * dt_);
+  measured_ = plant_.state();
+  if (noise_cfg_.active())
+    for (Eigen::Index i = 0; i < measured_.size(); ++i) measured_[i] += noise_cfg_.std[i] * noise_.next();
 }
 
 void ScenarioPlant::advance(double u) {
-  plant_.step(dt_, theta_, u, r_);
+  u_applied_ = limits_.apply(u, u_applied_, dt_);
+  plant_.step(dt_, theta_, u_applied_, r_);
   ++k_;
   sampleInputs();
 }
@@ -89,11 +100,12 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       v->reserve(static_cast<size_t>(steps));
     for (auto* v : {&s.x, &s.x_r, &s.theta_hat, &s.theta_true}) v->reserve(static_cast<size_t>(steps));
     s.phase.reserve(static_cast<size_t>(steps));
+    s.saturated.reserve(static_cast<size_t>(steps));
   }
   Vec x;
   while (!sim.done()) {
     const double t = sim.time();
-    x = sim.state();
+    x = sim.measured();
     StepInput in;
     in.t = t;
     in.x = &x;
@@ -114,11 +126,12 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       s.u_bl.push_back(o.u_baseline);
       s.u_ad.push_back(o.u_adaptive);
       s.r.push_back(in.r);
-      s.x.push_back(x);
+      s.x.push_back(sim.state());
       s.x_r.push_back(o.x_ref);
       s.theta_hat.push_back(o.theta_hat);
       s.theta_true.push_back(sim.theta());
       s.phase.push_back(ctl_->phaseActive() ? 1 : 0);
+      s.saturated.push_back(o.saturated ? 1 : 0);
     }
     sim.advance(o.u);
   }

@@ -62,6 +62,15 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
   if (seed < 0) r.fail(p + ".preadaptation.seed", "must be >= 0, got " + std::to_string(seed));
   c.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
   c.gamma_pa = r.getDouble(p + ".preadaptation.gamma_pa");
+  // Options beyond the paper: optional, and their defaults reproduce the paper.
+  c.confirm_samples = static_cast<int>(r.getInt(p + ".attention.confirm_samples", 0));
+  c.hysteresis = r.getDouble(p + ".attention.hysteresis", 0.0);
+  c.freeze_when_saturated = r.getBool(p + ".adaptation.freeze_when_saturated", true);
+  if (r.has(p + ".projection")) {
+    c.projection = r.getBool(p + ".projection.enabled");
+    c.theta_max = r.getDouble(p + ".projection.theta_max");
+    c.projection_epsilon = r.getDouble(p + ".projection.epsilon");
+  }
   c.validate(r, n, p);
   return c;
 }
@@ -83,6 +92,20 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
   if (r.usable(p + ".preadaptation.hidden") && (hidden < 1 || hidden > kMaxHidden))
     r.fail(p + ".preadaptation.hidden", "must be in [1, " + std::to_string(kMaxHidden) + "], got " +
                                             std::to_string(hidden));
+  if (r.usable(p + ".attention.confirm_samples") && confirm_samples < 0)
+    r.fail(p + ".attention.confirm_samples", "must be >= 0, got " + std::to_string(confirm_samples));
+  if (r.usable(p + ".attention.hysteresis") && !(hysteresis >= 0.0 && hysteresis < c_e))
+    r.fail(p + ".attention.hysteresis",
+           "must be in [0, c_e = " + formatNumber(c_e) + "), got " + formatNumber(hysteresis));
+  if (r.has(p + ".projection")) {
+    positive(p + ".projection.theta_max", theta_max);
+    if (r.usable(p + ".projection.epsilon") && !(projection_epsilon > 0.0 && projection_epsilon <= 1.0))
+      r.fail(p + ".projection.epsilon", "must be in (0, 1], got " + formatNumber(projection_epsilon));
+    if (projection && theta_hat0.size() > 0 && r.usable(p + ".adaptation.theta_hat0") &&
+        theta_hat0.norm() > theta_max)
+      r.fail(p + ".adaptation.theta_hat0", "lies outside Omega (norm " +
+                                               formatNumber(theta_hat0.norm()) + " > theta_max)");
+  }
   if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
     if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
       r.fail(p + ".lqr.Q", "must be symmetric");
@@ -104,25 +127,56 @@ double VelocityEstimator::update(double e) {
   return value_;
 }
 
+Attention::Result Attention::decideUp(double e_dot) {
+  if (!(std::abs(e_dot) > c_ed_)) return Result::kNone;
+  if (active_) return Result::kIgnoredOnset;
+  active_ = true;
+  return Result::kOnset;
+}
+
+Attention::Result Attention::decideDown(double e_dot) {
+  if (!(std::abs(e_dot) < c_ed_)) return Result::kNone;
+  if (!active_) return Result::kIgnoredRecovery;
+  active_ = false;
+  return Result::kRecovered;
+}
+
 Attention::Result Attention::update(double e, double e_dot) {
-  const double s = std::abs(e) - c_e_;
+  const double s = std::abs(e) - c_e_;          // onset threshold
+  const double d = std::abs(e) - (c_e_ - hyst_);  // recovery threshold
   if (!primed_) {
     primed_ = true;
     s_prev_ = s;
+    d_prev_ = d;
     return Result::kNone;
   }
   const bool up = s_prev_ < 0.0 && s >= 0.0;
-  const bool down = s_prev_ > 0.0 && s <= 0.0;
+  const bool down = d_prev_ > 0.0 && d <= 0.0;
   s_prev_ = s;
-  if (up && std::abs(e_dot) > c_ed_) {
-    if (active_) return Result::kIgnoredOnset;
-    active_ = true;
-    return Result::kOnset;
+  d_prev_ = d;
+  if (confirm_ == 0) {  // the paper: decide at the crossing sample
+    if (up) return decideUp(e_dot);
+    if (down) return decideDown(e_dot);
+    return Result::kNone;
   }
-  if (down && std::abs(e_dot) < c_ed_) {
-    if (!active_) return Result::kIgnoredRecovery;
-    active_ = false;
-    return Result::kRecovered;
+  // Debounced: a crossing is pending until |e| has stayed on its new side confirm_ samples.
+  if (up) up_count_ = 0;
+  if (down) down_count_ = 0;
+  if (up_count_ >= 0) {
+    if (s < 0.0) {
+      up_count_ = -1;
+    } else if (!up && ++up_count_ >= confirm_) {
+      up_count_ = -1;
+      return decideUp(e_dot);
+    }
+  }
+  if (down_count_ >= 0) {
+    if (d > 0.0) {
+      down_count_ = -1;
+    } else if (!down && ++down_count_ >= confirm_) {
+      down_count_ = -1;
+      return decideDown(e_dot);
+    }
   }
   return Result::kNone;
 }
@@ -177,7 +231,7 @@ Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
       out_(plant.output_index),
       dt_(cfg.sample_time),
       vel_(cfg.tau, cfg.sample_time),
-      attention_(cfg.c_e, cfg.c_ed),
+      attention_(cfg.c_e, cfg.c_ed, cfg.confirm_samples, cfg.hysteresis),
       net_(cfg.hidden, plant.n(), cfg.seed, cfg.init_scale) {
   K_ = design_.K.transpose();
   B_ = plant.B;
@@ -193,6 +247,8 @@ Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
   sens_ = SensitivityTracker(design_.Ar, B_, PB_, cfg.gamma, out_);
   ev_.setZero(n_);
   theta_err_.setZero(n_);
+  upd_.setZero(n_);
+  limits_ = plant.actuator;
   reset();
 }
 
@@ -202,6 +258,25 @@ void Controller::reset() {
   vel_.reset();
   attention_.reset();
   phase_cost_ = 0.0;
+  u_prev_ = 0.0;
+}
+
+void Controller::project(const Vec& theta, Vec* y) const {
+  // f(theta) = ((1 + eps) |theta|^2 - theta_max^2) / (eps theta_max^2): f <= 0 inside the inner
+  // ball, f = 1 on |theta| = theta_max. Outward components of y are scaled down by f there.
+  const double tm2 = cfg_.theta_max * cfg_.theta_max;
+  const double eps = cfg_.projection_epsilon;
+  const double f = ((1.0 + eps) * theta.squaredNorm() - tm2) / (eps * tm2);
+  if (f <= 0.0) return;
+  const double grad_dot_y = theta.dot(*y);  // grad f is parallel to theta
+  if (grad_dot_y <= 0.0) return;
+  const double th2 = theta.squaredNorm();
+  *y -= (std::min(f, 1.0) * grad_dot_y / th2) * theta;
+}
+
+void Controller::clampToOmega(Vec* theta) const {
+  const double nrm = theta->norm();
+  if (nrm > cfg_.theta_max) *theta *= cfg_.theta_max / nrm;
 }
 
 void Controller::setNetwork(const NetworkState& s) {
@@ -247,6 +322,7 @@ StepOutput Controller::step(const StepInput& in) {
         if (cfg_.mode != Mode::kRac) {
           z_onset_ << out.e, std::abs(out.e_dot);
           net_.forward(z_onset_, &theta_hat_);
+          if (cfg_.projection) clampToOmega(&theta_hat_);
           ev.reset = true;
           if (learning) sens_.start();
         }
@@ -271,7 +347,11 @@ StepOutput Controller::step(const StepInput& in) {
 
   out.u_baseline = -K_.dot(x);
   out.u_adaptive = -theta_hat_.dot(x) + cfg_.k0 * in.r;
-  out.u = out.u_baseline + out.u_adaptive;
+  out.u_unsaturated = out.u_baseline + out.u_adaptive;
+  // The command the actuator can follow; the plant applies the same limits.
+  out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);
+  out.saturated = out.u != out.u_unsaturated;
+  u_prev_ = out.u;
   out.x_ref = x_r_;
   out.theta_hat = theta_hat_;
 
@@ -285,8 +365,18 @@ StepOutput Controller::step(const StepInput& in) {
       sens_.accumulate(dt_, ev_, x, theta_err_);
     }
   }
-  // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x.
-  theta_hat_ += (dt_ * cfg_.gamma * ev_.dot(PB_)) * x;
+  // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x; frozen while the
+  // elevator is limited (the plant does not get the u the law assumes), projected onto Omega.
+  if (!(out.saturated && cfg_.freeze_when_saturated)) {
+    upd_ = (cfg_.gamma * ev_.dot(PB_)) * x;
+    if (cfg_.projection) {
+      project(theta_hat_, &upd_);
+      theta_hat_ += dt_ * upd_;
+      clampToOmega(&theta_hat_);  // the Euler step can overshoot the boundary layer by O(dt)
+    } else {
+      theta_hat_ += dt_ * upd_;
+    }
+  }
   // Reference model (eq. refmodel), RK4 with r held over the sample.
   x_r_ = Phi_r_ * x_r_ + Gam_r_ * in.r;
   return out;

@@ -1,5 +1,8 @@
 #include "preadaptive_mrac/core/plant.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "preadaptive_mrac/core/params.hpp"
 
 namespace preadaptive_mrac {
@@ -16,6 +19,25 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   c.B1r = r.getVector(prefix + ".B1r", want);
   c.x0 = r.getVector(prefix + ".x0", want);
   c.output_index = static_cast<int>(r.getInt(prefix + ".output_index"));
+  if (r.has(prefix + ".actuator")) {
+    const std::string a = prefix + ".actuator";
+    c.actuator.enabled = r.getBool(a + ".enabled");
+    c.actuator.max_deflection = r.getDouble(a + ".max_deflection");
+    c.actuator.max_rate = r.getDouble(a + ".max_rate");
+    for (const char* k : {".max_deflection", ".max_rate"})
+      if (r.usable(a + k) && !(r.getDouble(a + k) > 0.0))
+        r.fail(a + k, "must be > 0, got " + formatNumber(r.getDouble(a + k)));
+  }
+  if (r.has(prefix + ".noise")) {
+    const std::string nk = prefix + ".noise";
+    c.noise.std = r.getVector(nk + ".std", want);
+    for (Eigen::Index i = 0; i < c.noise.std.size(); ++i)
+      if (r.usable(nk + ".std") && !(c.noise.std[i] >= 0.0))
+        r.fail(nk + ".std", "must be >= 0, got " + formatNumber(c.noise.std[i]));
+    const std::int64_t seed = r.getInt(nk + ".seed");
+    if (seed < 0) r.fail(nk + ".seed", "must be >= 0");
+    c.noise.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+  }
   // The operating point documents where A and B come from; nothing reads it.
   r.markUsed(prefix + ".operating_point");
   r.markUsed(prefix + ".description");
@@ -33,6 +55,28 @@ void PlantConfig::validate(ParamReader& r, const std::string& prefix) const {
     r.fail(prefix + ".output_index",
            "must be in [0, " + std::to_string(n - 1) + "], got " + std::to_string(output_index));
   if (r.usable(prefix + ".B") && B.size() == n && B.isZero(0.0)) r.fail(prefix + ".B", "must not be all zero");
+}
+
+double ActuatorLimits::apply(double u, double u_prev, double dt) const {
+  if (!enabled) return u;
+  const double step = max_rate * dt;
+  double v = std::min(std::max(u, u_prev - step), u_prev + step);
+  return std::min(std::max(v, -max_deflection), max_deflection);
+}
+
+double GaussianSource::next() {
+  if (has_spare_) {
+    has_spare_ = false;
+    return spare_;
+  }
+  // Box-Muller on two uniforms in (0, 1] built from the generator's 53 high bits.
+  const double u1 = (static_cast<double>(gen_() >> 11) + 1.0) * (1.0 / 9007199254740992.0);
+  const double u2 = static_cast<double>(gen_() >> 11) * (1.0 / 9007199254740992.0);
+  const double rad = std::sqrt(-2.0 * std::log(u1));
+  const double ang = 6.283185307179586 * u2;
+  spare_ = rad * std::sin(ang);
+  has_spare_ = true;
+  return rad * std::cos(ang);
 }
 
 Plant::Plant(const PlantConfig& cfg)

@@ -221,7 +221,7 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   header += ",e,e_dot_est,u";
   for (int i = 0; i < n; ++i) header += ",theta_hat" + std::to_string(i);
   for (int i = 0; i < n; ++i) header += ",theta_true" + std::to_string(i);
-  header += ",phase,u_baseline,u_adaptive,r\n";
+  header += ",phase,u_baseline,u_adaptive,r,saturated\n";
   std::fputs(header.c_str(), f.get());
   for (size_t k = 0; k < s.t.size(); ++k) {
     std::fprintf(f.get(), "%.17g", s.t[k]);
@@ -230,7 +230,8 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
     std::fprintf(f.get(), ",%.17g,%.17g,%.17g", s.e[k], s.e_dot[k], s.u[k]);
     for (int i = 0; i < n; ++i) std::fprintf(f.get(), ",%.17g", s.theta_hat[k][i]);
     for (int i = 0; i < n; ++i) std::fprintf(f.get(), ",%.17g", s.theta_true[k][i]);
-    std::fprintf(f.get(), ",%d,%.17g,%.17g,%.17g\n", s.phase[k], s.u_bl[k], s.u_ad[k], s.r[k]);
+    std::fprintf(f.get(), ",%d,%.17g,%.17g,%.17g,%d\n", s.phase[k], s.u_bl[k], s.u_ad[k], s.r[k],
+                 s.saturated[k]);
   }
   if (std::ferror(f.get())) throw FileError(path + ": write error");
 }

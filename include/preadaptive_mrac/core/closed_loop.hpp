@@ -46,8 +46,8 @@ class MetricsAccumulator {
 /// \brief Time series of a run (one row per sample).
 struct Series {
   std::vector<double> t, e, e_dot, u, u_bl, u_ad, r;
-  std::vector<Vec> x, x_r, theta_hat, theta_true;
-  std::vector<int> phase;
+  std::vector<Vec> x, x_r, theta_hat, theta_true;  ///< x: true state
+  std::vector<int> phase, saturated;
 };
 
 /// \brief A plant driven by a scenario, one sample at a time: what the batch loop and the ROS
@@ -65,11 +65,16 @@ class ScenarioPlant {
   double time() const { return static_cast<double>(k_) * dt_; }
   double dt() const { return dt_; }
   bool done() const { return k_ >= steps_; }
+  /// \brief True state x_k.
   const Vec& state() const { return plant_.state(); }
+  /// \brief What a sensor reports at t_k: x_k plus the configured noise (x_k when none).
+  const Vec& measured() const { return measured_; }
   double reference() const { return r_; }
   const Vec& theta() const { return theta_; }
-  /// \brief Integrate [t_k, t_k + dt] with elevator u [rad] held.
+  /// \brief Integrate [t_k, t_k + dt] with elevator u [rad] held, after the actuator limits.
   void advance(double u);
+  /// \brief Elevator actually applied over the last step [rad].
+  double lastApplied() const { return u_applied_; }
   const Plant& plant() const { return plant_; }
   const Scenario& scenario() const { return scenario_; }
 
@@ -81,6 +86,11 @@ class ScenarioPlant {
   std::int64_t k_ = 0, steps_ = 0;
   double r_ = 0.0;
   Vec theta_;
+  ActuatorLimits limits_;
+  MeasurementNoise noise_cfg_;
+  GaussianSource noise_;
+  Vec measured_;
+  double u_applied_ = 0.0;
 };
 
 /// \brief Options of a batch run.

@@ -8,13 +8,13 @@
 #include <string>
 
 #include "preadaptive_mrac/core/network.hpp"
+#include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
 namespace preadaptive_mrac {
 
 class ParamReader;
-struct PlantConfig;
 
 /// \brief What the preadaptation does at an onset and after a phase.
 enum class Mode {
@@ -43,6 +43,12 @@ struct ControllerConfig {
   double init_scale = 1.0;      ///< initial weights uniform in [-init_scale, init_scale]
   std::uint64_t seed = 1;       ///< seed of the initial weights
   double gamma_pa = 10.0;       ///< learning rate of the preadaptation learner
+  int confirm_samples = 0;      ///< attention debounce: crossings must hold this many samples
+  double hysteresis = 0.0;      ///< attention: recovery threshold is c_e - hysteresis [rad]
+  bool freeze_when_saturated = true;  ///< no adaptation while the elevator is at a limit
+  bool projection = false;      ///< smooth projection of theta_hat onto ||theta|| <= theta_max
+  double theta_max = 0.0;       ///< radius of Omega
+  double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   static ControllerConfig read(ParamReader& r, int n, const std::string& prefix = "controller");
@@ -82,6 +88,8 @@ struct StepOutput {
   double u_adaptive = 0.0;  ///< -theta_hat^T x + k0 r
   double e = 0.0;           ///< output error [rad]
   double e_dot = 0.0;       ///< its estimated rate [rad/s]
+  double u_unsaturated = 0.0;  ///< u_baseline + u_adaptive before the actuator limits
+  bool saturated = false;   ///< u was limited (magnitude or rate)
   Vec x_ref;                ///< reference-model state at this sample
   Vec theta_hat;            ///< estimate used for u at this sample (after any reset)
   std::optional<Event> event;  ///< at most one attention event per sample
@@ -103,21 +111,36 @@ class VelocityEstimator {
 };
 
 /// \brief Attention function (eq. attention) with the phase state of SPEC.md.
+///
+/// Two options against noise, both off by default (the paper's behaviour): `confirm_samples`
+/// N > 0 accepts a crossing only when |e| stays on the new side for N more samples, and checks
+/// the rate condition at the confirming sample; `hysteresis` h > 0 puts the recovery
+/// threshold at c_e - h.
 class Attention {
  public:
   enum class Result { kNone, kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery };
-  Attention(double c_e, double c_ed) : c_e_(c_e), c_ed_(c_ed) {}
+  Attention(double c_e, double c_ed, int confirm_samples = 0, double hysteresis = 0.0)
+      : c_e_(c_e), c_ed_(c_ed), confirm_(confirm_samples), hyst_(hysteresis) {}
   /// \brief Evaluate one sample of e and its estimated rate.
   Result update(double e, double e_dot);
   bool phaseActive() const { return active_; }
   /// \brief Enter a phase without an onset (an externally triggered phase).
   void forceActive() { active_ = true; }
-  void reset() { primed_ = false; active_ = false; }
+  void reset() {
+    primed_ = false;
+    active_ = false;
+    up_count_ = down_count_ = -1;
+  }
 
  private:
+  Result decideUp(double e_dot);
+  Result decideDown(double e_dot);
   double c_e_, c_ed_;
+  int confirm_;
+  double hyst_;
   bool primed_ = false, active_ = false;
-  double s_prev_ = 0.0;
+  double s_prev_ = 0.0, d_prev_ = 0.0;  // |e| - c_e and |e| - (c_e - h) at the last sample
+  int up_count_ = -1, down_count_ = -1;  // samples held since a crossing; -1 when none pending
 };
 
 /// \brief Sensitivity of the phase cost to theta_hat_I (eqs. E-der-exp, dot-ev-hth-der-exp),
@@ -192,8 +215,15 @@ class Controller {
   Vec K_, B_, PB_, b_ref_;
   Mat Phi_r_;   // RK4 transition of the reference model over dt
   Vec Gam_r_;   // RK4 input vector of the reference model over dt (times r)
-  Vec x0_, x_r_, theta_hat_, ev_, theta_err_;
+  /// \brief Smooth projection (Pomet-Praly) of the update direction y at theta.
+  void project(const Vec& theta, Vec* y) const;
+  /// \brief Radial projection of a reset value onto Omega.
+  void clampToOmega(Vec* theta) const;
+
+  Vec x0_, x_r_, theta_hat_, ev_, theta_err_, upd_;
   double phase_cost_ = 0.0;
+  ActuatorLimits limits_;
+  double u_prev_ = 0.0;
   VelocityEstimator vel_;
   Attention attention_;
   PreadaptNetwork net_;

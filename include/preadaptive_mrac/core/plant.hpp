@@ -2,6 +2,8 @@
 /// \file plant.hpp
 /// \brief The plant x_dot = A x + B (theta^T x + u) + B1r r (eq. plant), integrated with RK4.
 
+#include <cstdint>
+#include <random>
 #include <string>
 
 #include "preadaptive_mrac/core/types.hpp"
@@ -11,12 +13,48 @@ namespace preadaptive_mrac {
 class ParamReader;
 
 /// \brief Plant model and initial state, as read from config/plant/*.yaml (key `plant`).
+/// \brief Elevator magnitude and rate limits (key plant.actuator; optional, off when absent).
+struct ActuatorLimits {
+  bool enabled = false;
+  double max_deflection = 0.0;  ///< |u| <= max_deflection [rad]
+  double max_rate = 0.0;        ///< |du/dt| <= max_rate [rad/s]
+  /// \brief The deflection the actuator reaches over one step of dt [s] when commanded u
+  /// from u_prev [rad]: rate-limited, then clamped. The identity when disabled.
+  double apply(double u, double u_prev, double dt) const;
+};
+
+/// \brief Gaussian noise added to the measured state (key plant.noise; optional, off when absent).
+struct MeasurementNoise {
+  Eigen::VectorXd std;     ///< standard deviation per state (n) [units of x]
+  std::uint64_t seed = 0;  ///< seed of the noise sequence
+  bool active() const { return std.size() > 0 && std.cwiseAbs().maxCoeff() > 0.0; }
+};
+
+/// \brief Seeded standard normal numbers, the same on every platform (mt19937_64 + Box-Muller;
+/// std::normal_distribution is implementation-defined).
+class GaussianSource {
+ public:
+  explicit GaussianSource(std::uint64_t seed = 0) : gen_(seed) {}
+  double next();
+  void reseed(std::uint64_t seed) {
+    gen_.seed(seed);
+    has_spare_ = false;
+  }
+
+ private:
+  std::mt19937_64 gen_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
 struct PlantConfig {
   Eigen::MatrixXd A;    ///< state matrix (n x n)
   Eigen::VectorXd B;    ///< input vector (n)
   Eigen::VectorXd B1r;  ///< reference input vector (n)
   Eigen::VectorXd x0;   ///< initial state (n) [e_I rad s, alpha rad, q rad/s]
   int output_index = 1;  ///< y = x[output_index] (alpha)
+  ActuatorLimits actuator;   ///< applied by the plant, known to the controller
+  MeasurementNoise noise;    ///< added to what the plant publishes as measured
 
   int n() const { return static_cast<int>(A.rows()); }
   /// \brief Read the `plant` section; problems go to the reader.
