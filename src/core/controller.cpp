@@ -287,6 +287,12 @@ void Controller::setNetwork(const NetworkState& s) {
   net_ = PreadaptNetwork(s);
 }
 
+double Controller::safeCommand(const Vec& x_last, StalePolicy policy) {
+  const double u = policy == StalePolicy::kZero ? 0.0 : -K_.dot(x_last);
+  u_prev_ = limits_.apply(u, u_prev_, dt_);
+  return u_prev_;
+}
+
 void Controller::startPhase(const Vec& theta_I) {
   if (theta_I.size() != n_)
     throw std::invalid_argument("startPhase: theta_I must have " + std::to_string(n_) + " entries");

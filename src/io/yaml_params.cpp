@@ -52,7 +52,13 @@ ParamValue toParam(const YAML::Node& n) {
     }
     case YAML::NodeType::Map: {
       ParamValue m = ParamValue::makeMap();
-      for (const auto& kv : n) m.map()[kv.first.as<std::string>()] = toParam(kv.second);
+      for (const auto& kv : n) {
+        // Keys must be plain names: a list or map as a key ("? [a, b]: 1") has no parameter path.
+        if (!kv.first.IsScalar())
+          throw FileError("line " + std::to_string(kv.first.Mark().line + 1) +
+                          ": a map key must be a plain name, not a list or map");
+        m.map()[kv.first.Scalar()] = toParam(kv.second);
+      }
       return m;
     }
   }
@@ -71,7 +77,13 @@ ParamValue parseYaml(const std::string& text, const std::string& origin) {
   }
   if (!root.IsMap() && !root.IsNull())
     throw FileError(origin + ": expected a YAML map at the top level");
-  return root.IsNull() ? ParamValue::makeMap() : toParam(root);
+  try {
+    return root.IsNull() ? ParamValue::makeMap() : toParam(root);
+  } catch (const FileError& e) {
+    throw FileError(origin + ": " + e.what());
+  } catch (const YAML::Exception& e) {
+    throw FileError(origin + ": malformed YAML: " + e.msg);
+  }
 }
 
 ParamValue loadYamlFile(const std::string& path) {
@@ -94,7 +106,13 @@ void applyOverride(ParamValue* tree, const std::string& assignment) {
   } catch (const YAML::Exception& e) {
     throw FileError("--set " + key + ": malformed value '" + value + "': " + e.msg);
   }
-  tree->setPath(key, toParam(n));
+  try {
+    tree->setPath(key, toParam(n));
+  } catch (const FileError& e) {
+    throw FileError("--set " + key + ": " + e.what());
+  } catch (const YAML::Exception& e) {
+    throw FileError("--set " + key + ": malformed value '" + value + "': " + e.msg);
+  }
 }
 
 }  // namespace preadaptive_mrac

@@ -163,3 +163,18 @@ TEST(Cli, WeightsCarryOverBetweenRuns) {
   // Episodes continue from the first run's count (4 phases in scenario 1 with c_ed = 0.015).
   EXPECT_NE(second.out.find("\"episodes\":8,\"theta_hat_final\""), std::string::npos) << second.out;
 }
+
+TEST(Config, NonScalarMapKeysAreAFileErrorNotACrash) {
+  // Found by fuzz/fuzz_yaml_config: a list as a map key threw an uncaught yaml-cpp exception.
+  for (const char* text : {"? [a, b]\n: 1\n", "plant: {[1]: 2}\n", "{? {a: 1} : x}\n"}) {
+    try {
+      parseYaml(text, "keys.yaml");
+      FAIL() << "accepted: " << text;
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find("keys.yaml: line"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("plain name"), std::string::npos) << e.what();
+    }
+  }
+  ParamValue t = ParamValue::makeMap();
+  EXPECT_THROW(applyOverride(&t, "controller.mode={[1]: 2}"), FileError);
+}

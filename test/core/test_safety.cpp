@@ -171,3 +171,42 @@ TEST(Config, SafetyOptionsAreValidated) {
                           "controller.projection.epsilon: must be in (0, 1]"})
     EXPECT_NE(all.find(key), std::string::npos) << key << "\n" << all;
 }
+
+TEST(InputGuard, RejectsMalformedSamplesWithoutRefreshingTheTimer) {
+  InputGuard g(3, 0.05);
+  EXPECT_TRUE(g.stale(0.0));  // nothing valid yet
+  const double ok[3] = {0.0, 0.1, 0.0};
+  EXPECT_TRUE(g.accept(1.0, ok, 3));
+  EXPECT_FALSE(g.stale(1.04));
+  const double nan[3] = {0.0, std::nan(""), 0.0};
+  const double inf[3] = {0.0, 0.0, INFINITY};
+  std::string why;
+  EXPECT_FALSE(g.accept(1.03, nan, 3, &why));
+  EXPECT_EQ(why, "x[1] is nan");
+  EXPECT_FALSE(g.accept(1.04, inf, 3, &why));
+  EXPECT_EQ(why, "x[2] is inf");
+  EXPECT_FALSE(g.accept(1.045, ok, 2, &why));
+  EXPECT_EQ(why, "x has 2 entries, expected 3");
+  EXPECT_EQ(g.rejected(), 3u);
+  EXPECT_EQ(g.accepted(), 1u);
+  // Rejected samples did not refresh the timer: stale 50 ms after the last valid one.
+  EXPECT_TRUE(g.stale(1.051));
+  EXPECT_NEAR(g.age(1.051), 0.051, 1e-12);
+  StalePolicy p;
+  EXPECT_TRUE(parseStalePolicy("zero", &p));
+  EXPECT_EQ(p, StalePolicy::kZero);
+  EXPECT_FALSE(parseStalePolicy("hold", &p));
+}
+
+TEST(InputGuard, SafeCommandIsBaselineOrZeroWithinLimits) {
+  RunConfig cfg = test::packageConfig("1");
+  Controller ctl(cfg.plant, cfg.controller);
+  Vec x(3);
+  x << 0.1, 0.2, -0.1;
+  EXPECT_NEAR(ctl.safeCommand(x, StalePolicy::kBaselineHold), -ctl.design().K.dot(x), 1e-15);
+  EXPECT_EQ(ctl.safeCommand(x, StalePolicy::kZero), 0.0);
+  cfg.plant.actuator = {true, 0.4, 1.0};
+  Controller lim(cfg.plant, cfg.controller);
+  x << 0.0, 2.0, 0.0;  // baseline would ask for 2.3 rad
+  EXPECT_NEAR(lim.safeCommand(x, StalePolicy::kBaselineHold), 0.001, 1e-15);  // rate-limited
+}

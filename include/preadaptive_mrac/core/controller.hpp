@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "preadaptive_mrac/core/input_guard.hpp"
 #include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
@@ -204,6 +205,9 @@ class Controller {
   double phaseCost() const { return phase_cost_; }
   /// \brief dE/dtheta_hat_I accumulated since the phase began (learning modes).
   const Vec& phaseGradient() const { return sens_.grad(); }
+  /// \brief The command while input is stale: the LQR baseline -K x_last (kBaselineHold) or 0,
+  /// within the actuator limits. Adaptation, attention and learning do not run.
+  double safeCommand(const Vec& x_last, StalePolicy policy);
   /// \brief True in pa_learn_exact, which needs StepInput::theta_true.
   bool needsTruth() const { return cfg_.mode == Mode::kPaLearnExact; }
 
