@@ -1,1 +1,16 @@
-# Benchmarks
+# Benchmarks (Google Benchmark). Built only when the library is found (Debian: libbenchmark-dev),
+# so the package builds without it. Never registered as a test: bench/run_bench.sh runs it and
+# writes docs/performance.md.
+option(PREADAPTIVE_MRAC_BUILD_BENCH "Build the Google Benchmark executable when available" ON)
+if(PREADAPTIVE_MRAC_BUILD_BENCH)
+  find_package(benchmark QUIET)
+  if(benchmark_FOUND)
+    add_executable(bench_controller bench/bench_controller.cpp)
+    target_link_libraries(bench_controller preadaptive_mrac_io benchmark::benchmark)
+    set_target_properties(bench_controller PROPERTIES
+      RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  else()
+    message(STATUS "Google Benchmark not found (apt-get install libbenchmark-dev): "
+                   "bench_controller is not built")
+  endif()
+endif()

@@ -214,10 +214,10 @@ void SensitivityTracker::accumulate(double dt, const Vec& ev, const Vec& x, cons
   const auto top = S_.topRows(n_);
   const auto bot = S_.bottomRows(n_);
   Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, kMaxStates> row1, row2, row3;
-  row1.noalias() = theta_err.transpose() * top;
-  row2.noalias() = x.transpose() * bot;
-  row3.noalias() = PB_.transpose() * top;
-  Sdot_.topRows(n_).noalias() = Ar_ * top;
+  row1.noalias() = theta_err.transpose().lazyProduct(top);
+  row2.noalias() = x.transpose().lazyProduct(bot);
+  row3.noalias() = PB_.transpose().lazyProduct(top);
+  Sdot_.topRows(n_).noalias() = Ar_.lazyProduct(top);
   Sdot_.topRows(n_).noalias() += B_ * (row1 - row2);
   Sdot_.bottomRows(n_) = (gamma_ * ev.dot(PB_)) * top;
   Sdot_.bottomRows(n_).noalias() += gamma_ * x * row3;
@@ -384,7 +384,10 @@ StepOutput Controller::step(const StepInput& in) {
     }
   }
   // Reference model (eq. refmodel), RK4 with r held over the sample.
-  x_r_ = Phi_r_ * x_r_ + Gam_r_ * in.r;
+  Vec xr_next;
+  xr_next.noalias() = Phi_r_.lazyProduct(x_r_);
+  xr_next += Gam_r_ * in.r;
+  x_r_ = xr_next;
   return out;
 }
 

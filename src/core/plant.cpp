@@ -90,7 +90,7 @@ Plant::Plant(const PlantConfig& cfg)
 }
 
 void Plant::derivative(const Vec& x, const Vec& theta, double u, double r, Vec* xdot) const {
-  xdot->noalias() = A_ * x;
+  xdot->noalias() = A_.lazyProduct(x);
   *xdot += B_ * (theta.dot(x) + u) + B1r_ * r;
 }
 

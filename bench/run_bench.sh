@@ -1,0 +1,140 @@
+#!/usr/bin/env bash
+# Benchmarks of the package, in one run: builds in its own directory, runs the Google Benchmark
+# (Controller::step per mode, full scenario 3 per mode) with repetitions, times the batch CLI
+# against the Python/numpy prototype on the same work (scenario 1, rac), optionally counts
+# instructions with callgrind, and writes the table to docs/performance.md.
+#
+# Not a test: it passes or fails nothing; it reports medians.
+#
+# Environment (all optional):
+#   BUILD_DIR=build_bench   build directory (Release)
+#   REPS=10                 Google Benchmark repetitions (medians are reported)
+#   PY_RUNS=5               runs of each command in the CLI-vs-prototype timing
+#   JOBS=2                  parallel compile jobs
+#   CALLGRIND=auto          1: count instructions with valgrind, 0: skip, auto: when installed
+#   OUT=docs/performance.md
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+BUILD_DIR="${BUILD_DIR:-build_bench}"
+REPS="${REPS:-10}"
+PY_RUNS="${PY_RUNS:-5}"
+JOBS="${JOBS:-2}"
+CALLGRIND="${CALLGRIND:-auto}"
+OUT="${OUT:-docs/performance.md}"
+PY=/usr/bin/python3
+RES="$BUILD_DIR/bench_results"
+
+log() { printf '\n== %s\n' "$*"; }
+
+LOAD_BEFORE="$(cut -d' ' -f1-3 /proc/loadavg)"
+
+log "configure and build ($BUILD_DIR, Release)"
+CONFIGURE=(cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3)
+BUILD=(cmake --build "$BUILD_DIR" --target bench_controller preadapt_sim -j"$JOBS")
+mkdir -p "$BUILD_DIR"
+"${CONFIGURE[@]}" >"$BUILD_DIR/configure.log" 2>&1 || { cat "$BUILD_DIR/configure.log"; exit 1; }
+"${BUILD[@]}"
+BIN="$BUILD_DIR/devel/lib/preadaptive_mrac"
+SIM="$BIN/preadapt_sim"
+BENCH="$BIN/bench_controller"
+[[ -x "$SIM" && -x "$BENCH" ]] || { echo "run_bench: $SIM or $BENCH not built" >&2; exit 1; }
+rm -rf "$RES"
+mkdir -p "$RES"
+
+log "Google Benchmark ($REPS repetitions, medians)"
+BENCH_CMD=("$BENCH" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true
+           --benchmark_out="$RES/bench.json" --benchmark_out_format=json)
+"${BENCH_CMD[@]}"
+
+log "cross-check: prototype against the CLI (scenario 1, rac)"
+CLI_CMD=("$SIM" --scenario 1 --mode rac --json)
+PROTO_CMD=("$PY" bench/prototype_rac.py --quiet)
+"${CLI_CMD[@]}" >"$RES/cli_s1_rac.json"
+"$PY" bench/prototype_rac.py --cli-json "$RES/cli_s1_rac.json" | tee "$RES/prototype_xcheck.txt" |
+  grep -v '^{'
+
+HYPERFINE_CMD=""
+if command -v hyperfine >/dev/null 2>&1; then
+  log "hyperfine: CLI vs prototype ($PY_RUNS runs each)"
+  HF=(hyperfine -N --warmup 1 --runs "$PY_RUNS" --export-json "$RES/hyperfine.json"
+      "${CLI_CMD[*]}" "${PROTO_CMD[*]}")
+  "${HF[@]}"
+  HYPERFINE_CMD="hyperfine -N --warmup 1 --runs $PY_RUNS --export-json $RES/hyperfine.json '${CLI_CMD[*]}' '${PROTO_CMD[*]}'"
+else
+  echo "hyperfine not installed (apt-get install -y hyperfine): using the timing loop only"
+fi
+
+log "interleaved timing loop: CLI vs prototype ($PY_RUNS runs each)"
+LOOP_CMD=("$PY" bench/perf_report.py timeloop --reps "$PY_RUNS" --out "$RES/timeloop.json" --
+          "${CLI_CMD[@]}" ::: "${PROTO_CMD[@]}")
+"${LOOP_CMD[@]}"
+
+CG_CMD=""
+if [[ "$CALLGRIND" == 1 || ( "$CALLGRIND" == auto && -x "$(command -v valgrind || true)" ) ]]; then
+  log "callgrind: instructions per sample, scenario 3"
+  for m in rac pa pa_learn pa_learn_exact; do
+    valgrind --tool=callgrind --callgrind-out-file="$RES/callgrind.$m.out" \
+      "$SIM" --scenario 3 --mode "$m" --json >/dev/null 2>"$RES/callgrind.$m.log"
+    callgrind_annotate --inclusive=yes "$RES/callgrind.$m.out" >"$RES/callgrind.$m.txt" 2>/dev/null
+    callgrind_annotate "$RES/callgrind.$m.out" >"$RES/callgrind.$m.excl.txt" 2>/dev/null
+    "$PY" bench/perf_report.py callgrind --out "$RES/callgrind.json" --mode "$m" \
+      --ir-file "$RES/callgrind.$m.txt" --excl-file "$RES/callgrind.$m.excl.txt"
+    echo "  $m done"
+  done
+  CG_CMD="valgrind --tool=callgrind --callgrind-out-file=$RES/callgrind.<mode>.out $SIM --scenario 3 --mode <mode> --json; callgrind_annotate --inclusive=yes $RES/callgrind.<mode>.out"
+fi
+
+LOAD_AFTER="$(cut -d' ' -f1-3 /proc/loadavg)"
+
+log "report"
+CXX="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
+export META_DATE="$(date -u '+%Y-%m-%d %H:%M UTC')"
+export META_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
+export META_NPROC="$(nproc)"
+export META_KERNEL="Linux $(uname -r)"
+export META_LOAD_BEFORE="$LOAD_BEFORE" META_LOAD_AFTER="$LOAD_AFTER"
+export META_COMPILER="$("${CXX:-c++}" --version | head -1)"
+export META_FLAGS="$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
+export META_COMMIT="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
+if [[ -n "$(git --no-optional-locks status --porcelain 2>/dev/null | grep -v '^??' || true)" ]]; then
+  export META_DIRTY=" with uncommitted changes in the working tree"
+else
+  export META_DIRTY=""
+fi
+export META_REPS="$REPS" META_RES="$RES"
+export META_CMDS="$(printf '%s\n' \
+  "build|${CONFIGURE[*]} && ${BUILD[*]}" \
+  "Controller::step and scenario 3 (Google Benchmark)|${BENCH_CMD[*]}" \
+  "cross-check of the prototype|${CLI_CMD[*]} > $RES/cli_s1_rac.json && $PY bench/prototype_rac.py --cli-json $RES/cli_s1_rac.json" \
+  "CLI vs prototype, hyperfine|${HYPERFINE_CMD:-not run (hyperfine not installed)}" \
+  "CLI vs prototype, interleaved loop|${LOOP_CMD[*]}" \
+  "instruction counts|${CG_CMD:-not run}" \
+  "all of the above|bench/run_bench.sh  (REPS=$REPS PY_RUNS=$PY_RUNS)")"
+"$PY" - <<'EOF'
+import json, os
+res = os.environ["META_RES"]
+x = {}
+for line in open(os.path.join(res, "prototype_xcheck.txt")):
+    if line.startswith("{"):
+        x = json.loads(line).get("vs_cli", {})
+meta = {
+    "date": os.environ["META_DATE"], "cpu": os.environ["META_CPU"],
+    "nproc": os.environ["META_NPROC"], "kernel": os.environ["META_KERNEL"],
+    "load_before": os.environ["META_LOAD_BEFORE"], "load_after": os.environ["META_LOAD_AFTER"],
+    "compiler": os.environ["META_COMPILER"], "build_type": "Release",
+    "cxx_flags": os.environ["META_FLAGS"], "commit": os.environ["META_COMMIT"],
+    "dirty": os.environ["META_DIRTY"], "reps": os.environ["META_REPS"], "passes": 3,
+    "res": res,
+    "xcheck_peak": "%.2g" % x["max_abs_diff_peak_abs_e"] if x else "?",
+    "xcheck_iae": "%.2g" % x["max_abs_diff_iae"] if x else "?",
+    "xcheck_events": ("identical" if x.get("same_events") else "DIFFERENT") if x else "?",
+    "commands": [l.split("|", 1) for l in os.environ["META_CMDS"].splitlines() if l],
+}
+json.dump(meta, open(os.path.join(res, "meta.json"), "w"), indent=1)
+EOF
+mkdir -p "$(dirname "$OUT")"
+"$PY" bench/perf_report.py report --results "$RES" --out "$OUT"
+echo
+echo "run_bench: wrote $OUT (raw results in $RES)"
