@@ -1,0 +1,39 @@
+# ROS nodes: owned by the ROS-nodes work (issue 3). Included after catkin_package().
+# The node classes live in a library (so rostest gtests can reuse them); each node file
+# holds only main().
+
+# ROS-free parts of the glue (parameter reading, latency statistics): tested without a master.
+add_library(preadaptive_mrac_ros_params
+  src/ros/node_params.cpp
+  src/ros/latency_stats.cpp)
+target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)
+
+add_library(preadaptive_mrac_ros
+  src/ros/ros_params.cpp
+  src/ros/plant_sim_node.cpp
+  src/ros/mrac_controller_node.cpp
+  src/ros/run_monitor.cpp
+  src/ros/bag_recorder.cpp)
+target_include_directories(preadaptive_mrac_ros PUBLIC
+  ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
+target_include_directories(preadaptive_mrac_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
+target_link_libraries(preadaptive_mrac_ros PUBLIC preadaptive_mrac_ros_params ${catkin_LIBRARIES})
+add_dependencies(preadaptive_mrac_ros ${PROJECT_NAME}_generate_messages_cpp)
+
+add_executable(plant_sim_node src/nodes/plant_sim_node.cpp)
+target_link_libraries(plant_sim_node preadaptive_mrac_ros)
+add_executable(mrac_controller_node src/nodes/mrac_controller_node.cpp)
+target_link_libraries(mrac_controller_node preadaptive_mrac_ros)
+add_executable(run_monitor_node src/nodes/run_monitor_node.cpp)
+target_link_libraries(run_monitor_node preadaptive_mrac_ros)
+add_executable(bag_recorder_node src/nodes/bag_recorder_node.cpp)
+target_link_libraries(bag_recorder_node preadaptive_mrac_ros)
+set_target_properties(plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node
+  PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+
+install(TARGETS preadaptive_mrac_ros_params preadaptive_mrac_ros
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -1,0 +1,36 @@
+# ROS tests (issue 3): included from the end of cmake/tests.cmake.
+# Two tiers: gtest without a master for the ROS-free glue, rostest for whole-node behaviour.
+# rostest runs one master per test on the same port, so `make run_tests` runs them one by one.
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+
+  # Parameter readers of the nodes and the latency statistics: no master.
+  catkin_add_gtest(test_ros_node_params test/ros/test_node_params.cpp)
+  target_link_libraries(test_ros_node_params preadaptive_mrac_ros_params gtest_main)
+  target_compile_definitions(test_ros_node_params PRIVATE
+    PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
+
+  # Lockstep against the batch CLI, one registration per mode (same .test, different args).
+  add_executable(test_ros_lockstep test/ros/lockstep_equivalence_test.cpp)
+  target_link_libraries(test_ros_lockstep preadaptive_mrac_ros ${GTEST_LIBRARIES} yaml-cpp)
+  target_include_directories(test_ros_lockstep SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
+  target_compile_definitions(test_ros_lockstep PRIVATE PMRAC_SIM_BIN="$<TARGET_FILE:preadapt_sim>")
+  set_target_properties(test_ros_lockstep PROPERTIES
+    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  add_dependencies(test_ros_lockstep preadapt_sim plant_sim_node mrac_controller_node)
+  if(TARGET tests)
+    add_dependencies(tests test_ros_lockstep)
+  endif()
+  foreach(mode rac pa_learn pa_learn_exact)
+    add_rostest(test/ros/lockstep.test ARGS mode:=${mode}
+      DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node preadapt_sim)
+  endforeach()
+
+  # Broken parameters: nodes exit non-zero naming the key and never publish a command.
+  add_rostest(test/ros/broken_config.test
+    DEPENDENCIES plant_sim_node mrac_controller_node)
+
+  # Realtime: the command topic at 1 kHz (hztest on wall clock).
+  add_rostest(test/ros/realtime_hz.test
+    DEPENDENCIES plant_sim_node mrac_controller_node)
+endif()

@@ -1,0 +1,67 @@
+#pragma once
+/// \file bag_recorder.hpp
+/// \brief A bag recorder that never drops a message: unbounded subscriber queues, and
+/// back-pressure on a lockstep plant. `rosbag record` subscribes with a fixed queue of 100
+/// messages per topic and drops the oldest when it falls behind, which it does under a
+/// lockstep run (thousands of samples per second) on a loaded machine; a lockstep bag must
+/// hold every step.
+
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <topic_tools/shape_shifter.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+/// \brief Parameters of bag_recorder_node (private namespace).
+struct BagRecorderParams {
+  std::vector<std::string> topics;  ///< ~topics: names, resolved in the node's namespace
+  std::string output;               ///< ~output: bag path ("" = use ~output_prefix)
+  std::string output_prefix;        ///< ~output_prefix: <prefix>_YYYY-MM-DD-HH-MM-SS.bag
+  int progress_every = 100;         ///< ~progress_every: publish ~progress every N states
+};
+
+/// \brief Subscribes to every topic of any type and writes each message into one bag, at the
+/// time of its header stamp when its type starts with a std_msgs/Header (every message of
+/// this package: the sample's simulation time in lockstep), else at the receipt time (ROS
+/// time). So bag times are exact sample times however /clock is published.
+///
+/// For each PlantState topic it publishes ~progress (RecorderProgress) every
+/// ~progress_every steps and at the last step, once the state is in the bag: a lockstep plant
+/// waits on it instead of outrunning the recorder.
+class BagRecorder {
+ public:
+  /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
+  BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params);
+  /// \brief Spin until shutdown, then close the bag. Returns 0.
+  int run();
+  const std::string& path() const { return path_; }
+
+ private:
+  void callback(const std::string& topic,
+                const ros::MessageEvent<topic_tools::ShapeShifter const>& ev);
+  void reportProgress(const std::string& topic, const topic_tools::ShapeShifter& msg);
+  /// \brief Whether a message type's definition starts with `Header header` (cached).
+  bool hasHeader(const topic_tools::ShapeShifter& msg);
+
+  ros::NodeHandle nh_;
+  std::string path_;
+  rosbag::Bag bag_;
+  std::vector<ros::Subscriber> subs_;
+  ros::Publisher progress_pub_;
+  int progress_every_ = 100;
+  std::map<std::string, std::uint64_t> counts_;
+  std::map<std::string, bool> has_header_;  ///< by datatype
+  std::vector<std::uint8_t> buf_;
+};
+
+/// \brief main() after ros::init(): read the parameters, record until shutdown.
+int runBagRecorderNode();
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

@@ -1,0 +1,47 @@
+#pragma once
+/// \file latency_stats.hpp
+/// \brief Round-trip statistics of the plant node (state published -> command received) and
+/// its JSON report. ROS-free.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+/// \brief Summary of a set of latency samples [us].
+struct LatencySummary {
+  std::size_t count = 0;
+  double p50_us = 0.0, p99_us = 0.0, max_us = 0.0, mean_us = 0.0;
+};
+
+/// \brief Nearest-rank percentiles (p50 = the ceil(0.5 n)-th smallest sample) of `samples_us`;
+/// all zero for no samples. Sorts a copy.
+LatencySummary summarizeLatency(std::vector<double> samples_us);
+
+/// \brief What the plant node reports at the end of a run.
+struct RunReport {
+  std::string clock;                   ///< lockstep | realtime
+  std::string scenario;                ///< scenario name
+  double dt = 0.0;                     ///< step [s]
+  double rate_hz = 0.0;                ///< realtime tick rate [Hz] (0 in lockstep)
+  std::int64_t steps = 0;              ///< steps integrated
+  std::int64_t total_steps = 0;        ///< steps of the scenario
+  bool completed = false;              ///< reached the scenario's end
+  double wall_time_s = 0.0;            ///< from step 0 to the last step [s]
+  std::int64_t commands_received = 0;  ///< commands that answered a published state
+  std::int64_t commands_ignored = 0;   ///< commands for a step other than the one expected
+  std::int64_t stale_steps =
+      0;  ///< realtime: steps integrated without their own answer (ZOH on an older command)
+  std::int64_t late_ticks = 0;      ///< realtime: ticks that started more than one period late
+  std::int64_t resent_states = 0;   ///< lockstep: states published again for want of an answer
+  std::int64_t recorder_waits = 0;  ///< lockstep: waits (<= 0.1 s each) for a lagging recorder
+  LatencySummary latency;           ///< state publication -> command arrival [us], wall clock
+};
+
+/// \brief One JSON object (single line) for a report.
+std::string runReportJson(const RunReport& r);
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

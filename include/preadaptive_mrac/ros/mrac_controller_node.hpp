@@ -1,0 +1,82 @@
+#pragma once
+/// \file mrac_controller_node.hpp
+/// \brief ROS wiring of the core Controller: one controller step per plant/state message.
+
+#include <ros/ros.h>
+
+#include <cstdint>
+#include <deque>
+#include <map>
+
+#include "preadaptive_mrac/AdaptationStatus.h"
+#include "preadaptive_mrac/AttentionEvent.h"
+#include "preadaptive_mrac/ElevatorCommand.h"
+#include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/PlantTruth.h"
+#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/input_guard.hpp"
+#include "preadaptive_mrac/ros/node_params.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+/// \brief Fill an AttentionEvent from a core event (step: the sample it happened at).
+void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg);
+
+/// \brief The preadaptive MRAC controller node.
+///
+/// Subscribes plant/state (tcpNoDelay) and, in pa_learn_exact only, plant/truth; publishes
+/// controller/elevator_cmd (answering each state's step), controller/attention (events) and
+/// controller/status (every step). All topics are relative to the node's namespace.
+class MracControllerNode {
+ public:
+  /// \brief Builds the controller (K, P at start-up), loads ~weights_in, advertises.
+  MracControllerNode(const ros::NodeHandle& nh, const ControllerNodeParams& params);
+
+  /// \brief Wait for the subscribers, subscribe, spin until shutdown, save ~weights_out.
+  /// Returns the process exit code.
+  int run();
+
+ private:
+  void stateCallback(const PlantState::ConstPtr& msg);
+  void truthCallback(const PlantTruth::ConstPtr& msg);
+  /// \brief States waiting for their truth, in order, as far as the truth has arrived.
+  void drainPending();
+  /// \brief One controller step for a state (theta: its truth, or nullptr).
+  void process(const PlantState& msg, const Vec* theta);
+  /// \brief Answer a rejected state with the safe command (~stale_policy) of the last valid one.
+  void answerRejected(const PlantState& msg, const std::string& why);
+  bool waitForSubscribers();
+  void saveWeights(const char* why);
+  void fatal(const std::string& what);
+
+  ros::NodeHandle nh_;
+  ControllerNodeParams params_;
+  Controller ctl_;
+  ros::Publisher cmd_pub_, attention_pub_, status_pub_;
+  ros::Subscriber state_sub_, truth_sub_;
+
+  ElevatorCommand cmd_msg_;
+  AdaptationStatus status_msg_;
+  AttentionEvent event_msg_;
+  Vec x_, x_last_valid_;
+  InputGuard state_guard_, truth_guard_;
+
+  bool dt_checked_ = false, failed_ = false;
+  int exit_code_ = 0;
+  bool have_last_ = false;
+  std::uint64_t last_step_ = 0;
+  std::int64_t gaps_ = 0, steps_ = 0, episodes_saved_ = -1;
+
+  std::map<std::uint64_t, Vec> truth_;        ///< pa_learn_exact: theta by step
+  std::deque<PlantState::ConstPtr> pending_;  ///< states waiting for their truth
+  bool have_truth_ = false;
+  std::uint64_t last_truth_step_ = 0;
+};
+
+/// \brief Everything main() does after ros::init(): read ~ (every problem at once; ROS_FATAL
+/// each and return kExitConfigError without advertising), build the node, run it.
+int runMracControllerNode();
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

@@ -1,0 +1,78 @@
+#pragma once
+/// \file node_params.hpp
+/// \brief Parameters of the two ROS nodes, read from a ParamValue tree (the node's private
+/// namespace) with every problem collected at once. ROS-free, so it is tested without a master.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "preadaptive_mrac/core/input_guard.hpp"
+#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/io/setup.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+/// \brief How the plant node advances time.
+enum class ClockMode {
+  kLockstep,  ///< one step per answered command, /clock published: deterministic, fast
+  kRealtime,  ///< wall-clock timer, zero-order hold on the latest command
+};
+const char* clockModeName(ClockMode m);
+
+/// \brief Everything plant_sim_node reads from `~`.
+struct PlantNodeParams {
+  RunConfig run;                            ///< plant and scenario sections (controller unused)
+  double dt = 0.001;                        ///< ~dt: integration step = sample time [s], (0, 1]
+  ClockMode clock = ClockMode::kLockstep;   ///< ~clock: lockstep | realtime
+  double rate = 1000.0;                     ///< ~rate: realtime tick rate [Hz], (0, 100000]
+  bool publish_clock = true;                ///< ~publish_clock: lockstep publishes /clock
+  int clock_decimation = 1;                 ///< ~clock_decimation: /clock every N steps (>= 1)
+  std::string world_frame = "world";        ///< ~world_frame: tf parent frame
+  std::string body_frame = "body";          ///< ~body_frame: pitched by the pitch angle
+  std::string velocity_frame = "velocity";  ///< ~velocity_frame: body rotated by alpha
+  int tf_decimation = 10;                   ///< ~tf_decimation: tf every N steps (>= 1)
+  int min_state_subscribers = 1;            ///< ~min_state_subscribers: wait for them before step 0
+  int min_truth_subscribers = 0;            ///< ~min_truth_subscribers: wait for them before step 0
+  double start_timeout = 60.0;    ///< ~start_timeout: wall time to wait for them [s]; 0 = forever
+  double command_timeout = 10.0;  ///< ~command_timeout: lockstep wait for one command [s] (> 0)
+  double resend_interval = 1.0;   ///< ~resend_interval: lockstep re-publishes an unanswered
+                                  ///< state after this wall time [s]; 0 = never
+  double shutdown_grace = 0.5;    ///< ~shutdown_grace: wall time kept alive after the end [s]
+  std::string latency_report;     ///< ~latency_report: JSON summary path ("" = none)
+  int queue_size = 0;             ///< ~queue_size: per-subscriber outgoing queue of the
+                                  ///< per-step topics; 0 = unbounded (nothing dropped)
+  std::string recorder_progress_topic;  ///< ~recorder_progress_topic: bag_recorder_node's
+                                        ///< ~progress; lockstep waits for it ("" = no recorder)
+  int max_recorder_lag = 2000;  ///< ~max_recorder_lag: steps the recorder may fall behind (>= 1)
+};
+
+/// \brief Everything mrac_controller_node reads from `~`.
+struct ControllerNodeParams {
+  RunConfig run;                    ///< plant (A, B, B1r) and controller sections
+  std::string weights_in;           ///< ~weights_in: network weights loaded at start ("" = seed)
+  std::string weights_out;          ///< ~weights_out: saved after each episode and at shutdown
+  bool save_every_episode = true;   ///< ~save_every_episode: save after each learning episode
+  int min_command_subscribers = 1;  ///< ~min_command_subscribers: wait before taking states
+  int min_status_subscribers = 0;   ///< ~min_status_subscribers: same for status and attention
+  double start_timeout = 60.0;      ///< ~start_timeout: wall time to wait for them [s]; 0 = forever
+  int truth_buffer = 10000;         ///< ~truth_buffer: max states waiting for their truth (>= 1)
+  /// ~stale_policy: baseline_hold | zero, the command answering a rejected state (NaN, Inf,
+  /// wrong size): the LQR baseline of the last valid state, or 0.
+  StalePolicy stale_policy = StalePolicy::kBaselineHold;
+  int queue_size = 0;  ///< ~queue_size: per-subscriber outgoing queue of the
+                       ///< per-step topics; 0 = unbounded (nothing dropped)
+};
+
+/// \brief Read and validate plant_sim_node's private parameters. Throws ConfigError listing
+/// every problem, each naming its key in `style` (e.g. "/plant_sim/dt").
+PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& style);
+
+/// \brief Read and validate mrac_controller_node's private parameters, including the design
+/// check of readRunConfig (A, B not stabilisable etc.) and a readable ~weights_in of the
+/// right size. Throws ConfigError listing every problem.
+ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyStyle& style);
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

@@ -1,0 +1,93 @@
+#pragma once
+/// \file plant_sim_node.hpp
+/// \brief ROS wiring of the plant simulator: the core ScenarioPlant (the same stepping object
+/// the batch loop uses), published as plant/state, plant/truth, tf and (lockstep) /clock.
+
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "preadaptive_mrac/ElevatorCommand.h"
+#include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/PlantTruth.h"
+#include "preadaptive_mrac/RecorderProgress.h"
+#include "preadaptive_mrac/core/closed_loop.hpp"
+#include "preadaptive_mrac/ros/latency_stats.hpp"
+#include "preadaptive_mrac/ros/node_params.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+/// \brief The plant simulator node.
+///
+/// Topics are relative to the node's namespace, so a launch file can put a plant and a
+/// controller pair under /rac and another under /pa:
+/// - publishes plant/state (PlantState), plant/truth (PlantTruth), /tf, and in lockstep /clock;
+/// - subscribes controller/elevator_cmd (ElevatorCommand, tcpNoDelay).
+///
+/// Lockstep: for k = 0 .. total-1 publish /clock = t_k, truth k, state k, then wait (bounded by
+/// ~command_timeout) for the command whose step is k and advance with its u. Realtime: a
+/// wall-clock tick every 1/~rate s advances with the latest command held (zero-order hold).
+class PlantSimNode {
+ public:
+  /// \brief Advertises and subscribes; params must have been validated.
+  PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& params);
+
+  /// \brief Run the scenario to its end (or until shutdown). Returns the process exit code:
+  /// 0 on completion or interruption, kExitRuntimeError on a start or command timeout.
+  int run();
+
+  /// \brief The report of the run so far (latency, missed steps, wall time).
+  RunReport report() const;
+
+ private:
+  void commandCallback(const ElevatorCommand::ConstPtr& msg);
+  void progressCallback(const RecorderProgress::ConstPtr& msg);
+  /// \brief Lockstep back-pressure: wait (bounded by ~command_timeout) until the recorder has
+  /// written state `step` - `lag`. False on timeout or shutdown.
+  bool waitForRecorder(std::uint64_t step, std::uint64_t lag);
+  bool waitForSubscribers();
+  int runLockstep();
+  int runRealtime();
+  /// \brief Publish truth then state of the current step, and tf every ~tf_decimation steps.
+  void publishSample(const ros::Time& stamp);
+  /// \brief Advance the plant by one step with elevator u [rad]; integrates the pitch angle.
+  void advance(double u);
+  void finish(bool completed);
+  static ros::Time simStamp(double t);
+
+  ros::NodeHandle nh_;
+  PlantNodeParams params_;
+  ScenarioPlant sim_;
+  ros::Publisher state_pub_, truth_pub_, clock_pub_;
+  ros::Subscriber cmd_sub_, progress_sub_;
+  tf2_ros::TransformBroadcaster tf_;
+
+  PlantState state_msg_;
+  PlantTruth truth_msg_;
+  double applied_u_ = 0.0;    ///< elevator over the previous step [rad]
+  double theta_pitch_ = 0.0;  ///< integrated pitch angle [rad] (display only)
+
+  mutable std::mutex mutex_;  ///< guards the fields below (realtime: spinner thread)
+  bool have_cmd_ = false;
+  bool have_progress_ = false;
+  std::uint64_t recorded_step_ = 0;  ///< last state step the recorder has written
+  std::uint64_t cmd_step_ = 0;
+  double cmd_u_ = 0.0;
+  std::int64_t commands_received_ = 0, commands_ignored_ = 0;
+  std::int64_t stale_steps_ = 0, late_ticks_ = 0, resent_ = 0, recorder_waits_ = 0;
+  std::vector<double> latency_us_;
+  std::vector<double> publish_wall_;  ///< lockstep: wall time [s] state k was published
+  double wall_start_ = 0.0, wall_end_ = 0.0;
+  bool completed_ = false;
+};
+
+/// \brief Everything main() does after ros::init(): read ~ (every problem at once; ROS_FATAL
+/// each and return kExitConfigError without advertising), build the node, run it.
+int runPlantSimNode();
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

@@ -1,0 +1,365 @@
+#include "preadaptive_mrac/ros/mrac_controller_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "preadaptive_mrac/io/weights_io.hpp"
+#include "preadaptive_mrac/ros/ros_params.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+namespace {
+
+constexpr uint32_t kSampleQueue = 10000;  // incoming states
+
+std::uint8_t eventType(Event::Type t) {
+  switch (t) {
+    case Event::Type::kOnset:
+      return AttentionEvent::ONSET;
+    case Event::Type::kRecovered:
+      return AttentionEvent::RECOVERED;
+    case Event::Type::kIgnoredOnset:
+      return AttentionEvent::IGNORED_ONSET;
+    case Event::Type::kIgnoredRecovery:
+      return AttentionEvent::IGNORED_RECOVERY;
+  }
+  return AttentionEvent::ONSET;
+}
+
+void copyVec(const Vec& v, std::vector<double>* out) {
+  out->resize(static_cast<size_t>(v.size()));
+  for (int i = 0; i < v.size(); ++i) (*out)[static_cast<size_t>(i)] = v[i];
+}
+
+}  // namespace
+
+void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg) {
+  msg->type = eventType(ev.type);
+  msg->type_name = eventTypeName(ev.type);
+  msg->step = step;
+  msg->t = ev.t;
+  msg->e = ev.e;
+  msg->e_dot_est = ev.e_dot;
+  copyVec(ev.theta_hat_before, &msg->theta_hat_before);
+  copyVec(ev.theta_hat_after, &msg->theta_hat_after);
+  msg->reset = ev.reset;
+  msg->cost = ev.cost;
+  copyVec(ev.grad, &msg->grad);
+  msg->learned = ev.learned;
+  msg->episodes = ev.episodes;
+}
+
+MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
+                                       const ControllerNodeParams& params)
+    : nh_(nh),
+      params_(params),
+      ctl_(params.run.plant, params.run.controller),
+      // Staleness is not used (this node answers states as they come); the guards reject
+      // malformed samples before they reach the controller.
+      state_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300),
+      truth_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300) {
+  const int n = params_.run.plant.n();
+  if (!params_.weights_in.empty()) {
+    ctl_.setNetwork(loadWeights(params_.weights_in, ctl_.config().hidden, n));
+    ROS_INFO("loaded network weights from %s (%lld episodes learned before)",
+             params_.weights_in.c_str(), static_cast<long long>(ctl_.network().state().episodes));
+  }
+  episodes_saved_ = ctl_.network().state().episodes;
+  x_.resize(n);
+  x_last_valid_ = Vec::Zero(n);
+  status_msg_.mode = modeName(ctl_.mode());
+  status_msg_.x_ref.resize(static_cast<size_t>(n));
+  status_msg_.theta_hat.resize(static_cast<size_t>(n));
+  // ~queue_size bounds the backlog kept for each slow subscriber; 0 keeps everything.
+  const auto q = static_cast<uint32_t>(params_.queue_size);
+  cmd_pub_ = nh_.advertise<ElevatorCommand>("controller/elevator_cmd", q);
+  attention_pub_ = nh_.advertise<AttentionEvent>("controller/attention", q);
+  status_pub_ = nh_.advertise<AdaptationStatus>("controller/status", q);
+}
+
+void MracControllerNode::fatal(const std::string& what) {
+  ROS_FATAL("%s", what.c_str());
+  failed_ = true;
+  exit_code_ = kExitConfigError;
+  ros::shutdown();
+}
+
+bool MracControllerNode::waitForSubscribers() {
+  const double start = ros::WallTime::now().toSec();
+  const double timeout = params_.start_timeout;
+  auto enough = [&] {
+    return static_cast<int>(cmd_pub_.getNumSubscribers()) >= params_.min_command_subscribers &&
+           static_cast<int>(status_pub_.getNumSubscribers()) >= params_.min_status_subscribers &&
+           static_cast<int>(attention_pub_.getNumSubscribers()) >= params_.min_status_subscribers;
+  };
+  while (ros::ok()) {
+    if (enough()) return true;
+    if (timeout > 0.0 && ros::WallTime::now().toSec() - start > timeout) {
+      ROS_ERROR(
+          "after %.1f s: %u subscriber(s) on %s (wanted %d, ~min_command_subscribers), "
+          "%u on %s and %u on %s (wanted %d, ~min_status_subscribers); giving up",
+          timeout, cmd_pub_.getNumSubscribers(), cmd_pub_.getTopic().c_str(),
+          params_.min_command_subscribers, status_pub_.getNumSubscribers(),
+          status_pub_.getTopic().c_str(), attention_pub_.getNumSubscribers(),
+          attention_pub_.getTopic().c_str(), params_.min_status_subscribers);
+      return false;
+    }
+    // Connections are made by roscpp's own threads; poll them in short bounded waits.
+    ros::WallDuration(0.002).sleep();
+  }
+  return false;
+}
+
+int MracControllerNode::run() {
+  const ControllerDesign& d = ctl_.design();
+  ROS_INFO("mrac_controller: mode %s, K = [%g %g %g], CARE residual %.2e, Lyapunov residual %.2e",
+           modeName(ctl_.mode()), d.K.size() > 0 ? d.K[0] : 0.0, d.K.size() > 1 ? d.K[1] : 0.0,
+           d.K.size() > 2 ? d.K[2] : 0.0, d.care_residual, d.lyapunov_residual);
+  // Only take states once every wanted subscriber (the plant, a recorder) is connected, so
+  // that nothing this node publishes is lost to a late connection.
+  if (!waitForSubscribers()) return kExitRuntimeError;
+  state_sub_ = nh_.subscribe("plant/state", kSampleQueue, &MracControllerNode::stateCallback, this,
+                             ros::TransportHints().tcpNoDelay());
+  if (ctl_.needsTruth()) {
+    truth_sub_ = nh_.subscribe("plant/truth", kSampleQueue, &MracControllerNode::truthCallback,
+                               this, ros::TransportHints().tcpNoDelay());
+    ROS_WARN(
+        "mode pa_learn_exact: the learning gradient uses the SIMULATION TRUTH theta from %s "
+        "(only a simulator has it); each state waits for the truth of the same step",
+        truth_sub_.getTopic().c_str());
+  }
+  ros::spin();
+  if (!failed_) saveWeights("shutdown");
+  printAfterShutdown(std::to_string(steps_) + " steps, " + std::to_string(gaps_) +
+                     " gap(s) in the state sequence, " +
+                     std::to_string(ctl_.network().state().episodes) + " learning episode(s)");
+  return exit_code_;
+}
+
+void MracControllerNode::saveWeights(const char* why) {
+  if (params_.weights_out.empty()) return;
+  const bool after_shutdown = !ros::ok();
+  try {
+    preadaptive_mrac::saveWeights(params_.weights_out, ctl_.network().state());
+    episodes_saved_ = ctl_.network().state().episodes;
+    const std::string line = "saved network weights (" + std::to_string(episodes_saved_) +
+                             " episodes) to " + params_.weights_out + " (" + why + ")";
+    if (after_shutdown) {
+      printAfterShutdown(line);
+    } else {
+      ROS_INFO("%s", line.c_str());
+    }
+  } catch (const std::exception& e) {
+    const std::string line =
+        "could not save network weights to " + params_.weights_out + ": " + e.what();
+    if (after_shutdown) {
+      printAfterShutdown(line, true);
+    } else {
+      ROS_ERROR("%s", line.c_str());
+    }
+  }
+}
+
+void MracControllerNode::stateCallback(const PlantState::ConstPtr& msg) {
+  if (failed_) return;
+  if (!ctl_.needsTruth()) {
+    process(*msg, nullptr);
+    return;
+  }
+  pending_.push_back(msg);
+  if (static_cast<int>(pending_.size()) > params_.truth_buffer) {
+    ROS_ERROR_THROTTLE(1.0,
+                       "%zu states waiting for their truth on %s (~truth_buffer %d); "
+                       "dropping step %llu",
+                       pending_.size(), truth_sub_.getTopic().c_str(), params_.truth_buffer,
+                       static_cast<unsigned long long>(pending_.front()->step));
+    pending_.pop_front();
+  }
+  drainPending();
+}
+
+void MracControllerNode::truthCallback(const PlantTruth::ConstPtr& msg) {
+  if (failed_) return;
+  const int n = params_.run.plant.n();
+  std::string why;
+  if (!truth_guard_.accept(0.0, msg->theta.data(), msg->theta.size(), &why, "theta")) {
+    ROS_ERROR_THROTTLE(1.0, "truth for step %llu rejected: %s",
+                       static_cast<unsigned long long>(msg->step), why.c_str());
+    return;
+  }
+  Vec theta(n);
+  for (int i = 0; i < n; ++i) theta[i] = msg->theta[static_cast<size_t>(i)];
+  truth_[msg->step] = theta;
+  have_truth_ = true;
+  last_truth_step_ = std::max(last_truth_step_, msg->step);
+  while (static_cast<int>(truth_.size()) > params_.truth_buffer) truth_.erase(truth_.begin());
+  drainPending();
+}
+
+void MracControllerNode::drainPending() {
+  while (!pending_.empty() && !failed_) {
+    const PlantState::ConstPtr& s = pending_.front();
+    auto it = truth_.find(s->step);
+    if (it != truth_.end()) {
+      const Vec theta = it->second;
+      // Truth of this and earlier steps is no longer needed.
+      truth_.erase(truth_.begin(), std::next(it));
+      const PlantState::ConstPtr keep = s;
+      pending_.pop_front();
+      process(*keep, &theta);
+    } else if (have_truth_ && last_truth_step_ > s->step) {
+      // Truth arrives in order on one topic: a later step means this one was lost (or was
+      // rejected). Answer the state safely rather than leave the plant waiting.
+      const PlantState::ConstPtr keep = s;
+      pending_.pop_front();
+      answerRejected(*keep, "no valid truth arrived for its step");
+    } else {
+      break;
+    }
+  }
+}
+
+void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
+  const int n = params_.run.plant.n();
+  if (!dt_checked_) {
+    const double ts = params_.run.controller.sample_time;
+    if (std::abs(msg.dt - ts) > 1e-12 * std::max(1.0, ts)) {
+      fatal(ros::this_node::getName() + "/controller/sample_time: " + std::to_string(ts) +
+            " s differs from the plant's step " + std::to_string(msg.dt) + " s on " +
+            state_sub_.getTopic() + "; they must be equal");
+      return;
+    }
+    dt_checked_ = true;
+  }
+  if (have_last_) {
+    if (msg.step == 0 && last_step_ > 0) {
+      ROS_WARN("the plant restarted (step 0 after step %llu): controller reset",
+               static_cast<unsigned long long>(last_step_));
+      ctl_.reset();
+    } else if (msg.step == last_step_) {
+      // The plant repeats a state when it got no answer: our command was lost. Answer again
+      // (the same command; the controller does not step twice).
+      ROS_WARN("state for step %llu repeated: publishing its command again",
+               static_cast<unsigned long long>(msg.step));
+      cmd_pub_.publish(cmd_msg_);
+      return;
+    } else if (msg.step < last_step_) {
+      ROS_WARN_THROTTLE(1.0, "state for step %llu after step %llu: ignored",
+                        static_cast<unsigned long long>(msg.step),
+                        static_cast<unsigned long long>(last_step_));
+      return;
+    } else if (msg.step != last_step_ + 1) {
+      gaps_ += 1;
+      ROS_WARN_THROTTLE(1.0, "states %llu .. %llu never arrived",
+                        static_cast<unsigned long long>(last_step_ + 1),
+                        static_cast<unsigned long long>(msg.step - 1));
+    }
+  }
+  have_last_ = true;
+  last_step_ = msg.step;
+  std::string why;
+  if (!state_guard_.accept(msg.t, msg.x.data(), msg.x.size(), &why, "x")) {
+    answerRejected(msg, why);
+    return;
+  }
+  ++steps_;
+
+  for (int i = 0; i < n; ++i) x_[i] = msg.x[static_cast<size_t>(i)];
+  x_last_valid_ = x_;
+  StepInput in;
+  in.t = msg.t;
+  in.x = &x_;
+  in.r = msg.r;
+  in.theta_true = theta;
+  StepOutput out;
+  try {
+    out = ctl_.step(in);
+  } catch (const std::exception& e) {
+    fatal(std::string("controller step ") + std::to_string(msg.step) + " failed: " + e.what());
+    return;
+  }
+
+  // The command first: the plant waits for it.
+  cmd_msg_.header.stamp = msg.header.stamp;
+  cmd_msg_.step = msg.step;
+  cmd_msg_.t = msg.t;
+  cmd_msg_.u = out.u;
+  cmd_msg_.u_baseline = out.u_baseline;
+  cmd_msg_.u_adaptive = out.u_adaptive;
+  cmd_msg_.safe = false;
+  cmd_pub_.publish(cmd_msg_);
+
+  if (out.event) {
+    event_msg_.header.stamp = msg.header.stamp;
+    toMsg(*out.event, msg.step, &event_msg_);
+    attention_pub_.publish(event_msg_);
+    ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", out.event->t,
+             eventTypeName(out.event->type), out.event->e, out.event->e_dot,
+             out.event->learned ? ", network updated" : "");
+  }
+
+  const int oi = params_.run.plant.output_index;
+  status_msg_.header.stamp = msg.header.stamp;
+  status_msg_.step = msg.step;
+  status_msg_.t = msg.t;
+  for (int i = 0; i < n; ++i) {
+    status_msg_.x_ref[static_cast<size_t>(i)] = out.x_ref[i];
+    status_msg_.theta_hat[static_cast<size_t>(i)] = out.theta_hat[i];
+  }
+  status_msg_.alpha_ref = out.x_ref[oi];
+  status_msg_.e = out.e;
+  status_msg_.e_dot_est = out.e_dot;
+  status_msg_.theta_hat_0 = n > 0 ? out.theta_hat[0] : 0.0;
+  status_msg_.theta_hat_1 = n > 1 ? out.theta_hat[1] : 0.0;
+  status_msg_.theta_hat_2 = n > 2 ? out.theta_hat[2] : 0.0;
+  status_msg_.phase_active = ctl_.phaseActive();
+  status_msg_.episodes = ctl_.network().state().episodes;
+  status_pub_.publish(status_msg_);
+
+  if (out.event && out.event->learned && params_.save_every_episode)
+    saveWeights("after a learning episode");
+}
+
+void MracControllerNode::answerRejected(const PlantState& msg, const std::string& why) {
+  ROS_ERROR_THROTTLE(1.0,
+                     "state for step %llu rejected (%s; %llu so far): answering with the "
+                     "%s command of the last valid state",
+                     static_cast<unsigned long long>(msg.step), why.c_str(),
+                     static_cast<unsigned long long>(state_guard_.rejected()),
+                     params_.stale_policy == StalePolicy::kZero ? "zero" : "baseline");
+  // The plant still gets an answer for this step (lockstep would otherwise wait), but the
+  // adaptive law, attention and learning do not see the sample.
+  const double u = ctl_.safeCommand(x_last_valid_, params_.stale_policy);
+  cmd_msg_.header.stamp = msg.header.stamp;
+  cmd_msg_.step = msg.step;
+  cmd_msg_.t = msg.t;
+  cmd_msg_.u = u;
+  cmd_msg_.u_baseline = u;
+  cmd_msg_.u_adaptive = 0.0;
+  cmd_msg_.safe = true;
+  cmd_pub_.publish(cmd_msg_);
+}
+
+int runMracControllerNode() {
+  ControllerNodeParams params;
+  try {
+    params = readControllerNodeParams(readPrivateParams(), privateKeyStyle());
+  } catch (const ConfigError& e) {
+    logConfigProblems(e.problems());
+    return kExitConfigError;
+  }
+  ros::NodeHandle nh;
+  std::unique_ptr<MracControllerNode> node;
+  try {
+    node = std::make_unique<MracControllerNode>(nh, params);
+  } catch (const std::exception& e) {
+    // Validated above; this catches a weights file changed in between or a solver refusal.
+    logConfigProblems({e.what()});
+    return kExitConfigError;
+  }
+  return node->run();
+}
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

@@ -1,0 +1,390 @@
+#include "preadaptive_mrac/ros/plant_sim_node.hpp"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <thread>
+
+#include "preadaptive_mrac/ros/ros_params.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+namespace {
+
+constexpr uint32_t kCommandQueue = 100;
+
+double wallNow() { return ros::WallTime::now().toSec(); }
+
+geometry_msgs::TransformStamped pitchTransform(const ros::Time& stamp, const std::string& parent,
+                                               const std::string& child, double angle) {
+  // Rotation about the parent's y axis by `angle`. With REP 103 axes (x forward, y left,
+  // z up) a nose-up pitch is a negative rotation about y.
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  t.transform.rotation.x = 0.0;
+  t.transform.rotation.y = std::sin(0.5 * angle);
+  t.transform.rotation.z = 0.0;
+  t.transform.rotation.w = std::cos(0.5 * angle);
+  return t;
+}
+
+}  // namespace
+
+PlantSimNode::PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& params)
+    : nh_(nh), params_(params), sim_(params.run.plant, params.run.scenario, params.dt) {
+  // ~queue_size bounds the backlog kept for each slow subscriber (a recorder under load falls
+  // seconds behind a lockstep run); 0 keeps everything, so no sample is lost.
+  const auto q = static_cast<uint32_t>(params_.queue_size);
+  state_pub_ = nh_.advertise<PlantState>("plant/state", q);
+  truth_pub_ = nh_.advertise<PlantTruth>("plant/truth", q);
+  if (params_.clock == ClockMode::kLockstep && params_.publish_clock) {
+    // Latched, so a node that starts late (rosbag waits for a valid clock before it
+    // subscribes to anything) sees the current time at once.
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10, true);
+  }
+  cmd_sub_ = nh_.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback,
+                           this, ros::TransportHints().tcpNoDelay());
+  if (params_.clock == ClockMode::kLockstep && !params_.recorder_progress_topic.empty()) {
+    progress_sub_ =
+        nh_.subscribe(params_.recorder_progress_topic, 100, &PlantSimNode::progressCallback, this,
+                      ros::TransportHints().tcpNoDelay());
+  }
+  const int n = sim_.plant().n();
+  state_msg_.x.resize(static_cast<size_t>(n));
+  state_msg_.dt = sim_.dt();
+  state_msg_.total_steps = static_cast<std::uint64_t>(sim_.totalSteps());
+  truth_msg_.theta.resize(static_cast<size_t>(n));
+  latency_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
+  if (params_.clock == ClockMode::kLockstep)
+    publish_wall_.assign(static_cast<size_t>(sim_.totalSteps()), 0.0);
+  // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0).
+  const int out = sim_.plant().outputIndex();
+  theta_pitch_ = sim_.state()[out];
+}
+
+ros::Time PlantSimNode::simStamp(double t) {
+  ros::Time s(t);
+  // ROS reads time 0 as "no clock yet" (rosbag record would not start), so step 0 is 1 ns.
+  if (s.isZero()) s = ros::Time(0, 1);
+  return s;
+}
+
+void PlantSimNode::commandCallback(const ElevatorCommand::ConstPtr& msg) {
+  const double arrival = wallNow();
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (params_.clock == ClockMode::kLockstep) {
+    const auto expected = static_cast<std::uint64_t>(sim_.step());
+    if (sim_.done() || msg->step != expected) {
+      ++commands_ignored_;
+      ROS_WARN_THROTTLE(1.0, "ignoring command for step %llu (waiting for step %llu)",
+                        static_cast<unsigned long long>(msg->step),
+                        static_cast<unsigned long long>(expected));
+      return;
+    }
+    latency_us_.push_back(1e6 * (arrival - publish_wall_[static_cast<size_t>(expected)]));
+  } else {
+    // The command's stamp is the answered state's stamp, which realtime sets to the wall
+    // time of publication.
+    if (have_cmd_ && msg->step <= cmd_step_) {
+      ++commands_ignored_;
+      return;
+    }
+    latency_us_.push_back(1e6 * (arrival - msg->header.stamp.toSec()));
+  }
+  ++commands_received_;
+  have_cmd_ = true;
+  cmd_step_ = msg->step;
+  cmd_u_ = msg->u;
+}
+
+void PlantSimNode::progressCallback(const RecorderProgress::ConstPtr& msg) {
+  if (msg->topic != state_pub_.getTopic()) return;  // another plant's progress
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!have_progress_ || msg->step > recorded_step_) recorded_step_ = msg->step;
+  have_progress_ = true;
+}
+
+bool PlantSimNode::waitForRecorder(std::uint64_t step, std::uint64_t lag) {
+  if (!progress_sub_) return true;
+  const std::uint64_t needed = step > lag ? step - lag : 0;
+  const auto caught_up = [&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return have_progress_ && recorded_step_ >= needed;
+  };
+  if (step < lag || caught_up()) return true;
+  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+  const double deadline = wallNow() + params_.command_timeout;
+  while (ros::ok()) {
+    if (caught_up()) return true;
+    const double remaining = deadline - wallNow();
+    if (remaining <= 0.0) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ROS_ERROR(
+          "the recorder (%s) has written step %llu of %s, needed %llu, and made no "
+          "progress for %.3f s (~command_timeout); stopping",
+          progress_sub_.getTopic().c_str(), static_cast<unsigned long long>(recorded_step_),
+          state_pub_.getTopic().c_str(), static_cast<unsigned long long>(needed),
+          params_.command_timeout);
+      return false;
+    }
+    ++recorder_waits_;
+    queue->callAvailable(ros::WallDuration(std::min(remaining, 0.1)));
+  }
+  return false;
+}
+
+bool PlantSimNode::waitForSubscribers() {
+  const double start = wallNow();
+  const double timeout = params_.start_timeout;
+  ROS_INFO("waiting for %d subscriber(s) on %s and %d on %s (timeout %s)",
+           params_.min_state_subscribers, state_pub_.getTopic().c_str(),
+           params_.min_truth_subscribers, truth_pub_.getTopic().c_str(),
+           timeout > 0.0 ? (std::to_string(timeout) + " s").c_str() : "none");
+  while (ros::ok()) {
+    if (static_cast<int>(state_pub_.getNumSubscribers()) >= params_.min_state_subscribers &&
+        static_cast<int>(truth_pub_.getNumSubscribers()) >= params_.min_truth_subscribers)
+      return true;
+    if (timeout > 0.0 && wallNow() - start > timeout) {
+      ROS_ERROR(
+          "only %u subscriber(s) on %s and %u on %s after %.1f s (wanted %d and %d: "
+          "~min_state_subscribers, ~min_truth_subscribers); giving up",
+          state_pub_.getNumSubscribers(), state_pub_.getTopic().c_str(),
+          truth_pub_.getNumSubscribers(), truth_pub_.getTopic().c_str(), timeout,
+          params_.min_state_subscribers, params_.min_truth_subscribers);
+      return false;
+    }
+    // Connections are made by roscpp's own threads; poll them in short bounded waits.
+    ros::WallDuration(0.002).sleep();
+  }
+  return false;
+}
+
+void PlantSimNode::publishSample(const ros::Time& stamp) {
+  const auto k = static_cast<std::uint64_t>(sim_.step());
+  const Vec& x = sim_.state();
+  const Vec& theta = sim_.theta();
+  const int out = sim_.plant().outputIndex();
+
+  truth_msg_.header.stamp = stamp;
+  truth_msg_.step = k;
+  for (int i = 0; i < theta.size(); ++i) truth_msg_.theta[static_cast<size_t>(i)] = theta[i];
+  truth_msg_.theta_scale = theta.size() > 0 ? theta[0] : 0.0;
+  truth_pub_.publish(truth_msg_);
+
+  state_msg_.header.stamp = stamp;
+  state_msg_.step = k;
+  state_msg_.t = sim_.time();
+  for (int i = 0; i < x.size(); ++i) state_msg_.x[static_cast<size_t>(i)] = x[i];
+  state_msg_.e_I = x.size() > 0 ? x[0] : 0.0;
+  state_msg_.alpha = x[out];
+  state_msg_.q = x.size() > 2 ? x[2] : 0.0;
+  state_msg_.theta_pitch = theta_pitch_;
+  state_msg_.r = sim_.reference();
+  state_msg_.elevator = applied_u_;
+  if (params_.clock == ClockMode::kLockstep) publish_wall_[static_cast<size_t>(k)] = wallNow();
+  state_pub_.publish(state_msg_);
+
+  if (k % static_cast<std::uint64_t>(params_.tf_decimation) == 0) {
+    std::vector<geometry_msgs::TransformStamped> tfs;
+    tfs.push_back(pitchTransform(stamp, params_.world_frame, params_.body_frame, -theta_pitch_));
+    // The velocity vector lies alpha below the nose: rotate the body frame nose-down by alpha.
+    tfs.push_back(pitchTransform(stamp, params_.body_frame, params_.velocity_frame, x[out]));
+    tf_.sendTransform(tfs);
+  }
+}
+
+void PlantSimNode::advance(double u) {
+  const double q_before = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
+  sim_.advance(u);
+  applied_u_ = u;
+  const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
+  // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.
+  theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
+}
+
+int PlantSimNode::run() {
+  ROS_INFO("plant_sim: scenario '%s', %lld steps of %g s (%g s), clock %s%s",
+           sim_.scenario().name.c_str(), static_cast<long long>(sim_.totalSteps()), sim_.dt(),
+           sim_.scenario().endTime(), clockModeName(params_.clock),
+           params_.clock == ClockMode::kRealtime
+               ? (", " + std::to_string(params_.rate) + " Hz").c_str()
+               : "");
+  return params_.clock == ClockMode::kLockstep ? runLockstep() : runRealtime();
+}
+
+int PlantSimNode::runLockstep() {
+  if (clock_pub_) {
+    rosgraph_msgs::Clock c;
+    c.clock = simStamp(0.0);
+    clock_pub_.publish(c);
+  }
+  if (!waitForSubscribers()) return kExitRuntimeError;
+  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+  wall_start_ = wallNow();
+  rosgraph_msgs::Clock clock_msg;
+  const auto lag = static_cast<std::uint64_t>(params_.max_recorder_lag);
+  const auto clock_every = static_cast<std::uint64_t>(params_.clock_decimation);
+  const auto total = static_cast<std::uint64_t>(sim_.totalSteps());
+  while (ros::ok() && !sim_.done()) {
+    const auto k = static_cast<std::uint64_t>(sim_.step());
+    // Back-pressure: a recorder that falls too far behind would hold an ever larger backlog
+    // in this process, lost if the run ends before it is sent.
+    if (!waitForRecorder(k, lag)) {
+      finish(false);
+      return kExitRuntimeError;
+    }
+    const ros::Time stamp = simStamp(sim_.time());
+    if (clock_pub_ && (k % clock_every == 0 || k + 1 == total)) {
+      clock_msg.clock = stamp;
+      clock_pub_.publish(clock_msg);
+    }
+    publishSample(stamp);
+    const double deadline = wallNow() + params_.command_timeout;
+    double resend_at =
+        params_.resend_interval > 0.0 ? wallNow() + params_.resend_interval : deadline;
+    double u = 0.0;
+    bool answered = false;
+    while (ros::ok()) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (have_cmd_ && cmd_step_ == k) {
+          u = cmd_u_;
+          answered = true;
+        }
+      }
+      if (answered) break;
+      const double now = wallNow();
+      if (now >= deadline) {
+        ROS_ERROR(
+            "no command for step %llu (t = %.6f s) on %s within %.3f s "
+            "(~command_timeout); stopping",
+            static_cast<unsigned long long>(k), sim_.time(), cmd_sub_.getTopic().c_str(),
+            params_.command_timeout);
+        finish(false);
+        return kExitRuntimeError;
+      }
+      if (now >= resend_at) {
+        // The state was lost, or reached the controller before it subscribed (an extra
+        // subscriber can make the start-up count look complete). It ignores repeats.
+        ROS_WARN("no command for step %llu after %.3f s: publishing its state again",
+                 static_cast<unsigned long long>(k), params_.resend_interval);
+        ++resent_;
+        publishSample(stamp);
+        resend_at = now + params_.resend_interval;
+      }
+      // Blocks until a callback is queued (or the bounded wait ends): no polling delay.
+      queue->callAvailable(ros::WallDuration(std::min(std::min(deadline, resend_at) - now, 0.1)));
+    }
+    if (!answered) break;  // shutdown requested
+    advance(u);
+  }
+  // The bag must hold the last state before this node (and so the run) ends.
+  if (sim_.done() && !waitForRecorder(static_cast<std::uint64_t>(sim_.totalSteps() - 1), 0)) {
+    finish(false);
+    return kExitRuntimeError;
+  }
+  finish(sim_.done());
+  return 0;
+}
+
+int PlantSimNode::runRealtime() {
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  if (!waitForSubscribers()) return kExitRuntimeError;
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(1.0 / params_.rate));
+  wall_start_ = wallNow();
+  auto next = Clock::now();
+  publishSample(ros::Time(ros::WallTime::now().toSec()));
+  while (ros::ok()) {
+    next += period;
+    std::this_thread::sleep_until(next);
+    // Behind schedule the ticks run back to back until the simulation has caught up.
+    if (Clock::now() - next > period) ++late_ticks_;
+    double u = 0.0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!have_cmd_ || cmd_step_ != static_cast<std::uint64_t>(sim_.step())) ++stale_steps_;
+      u = have_cmd_ ? cmd_u_ : 0.0;
+    }
+    advance(u);
+    if (sim_.done()) break;
+    const ros::WallTime now = ros::WallTime::now();
+    publishSample(ros::Time(now.sec, now.nsec));
+  }
+  finish(sim_.done());
+  spinner.stop();
+  return 0;
+}
+
+void PlantSimNode::finish(bool completed) {
+  wall_end_ = wallNow();
+  completed_ = completed;
+  const RunReport r = report();
+  ROS_INFO(
+      "plant_sim: %s after %lld of %lld steps in %.3f s wall; commands %lld (ignored %lld); "
+      "latency p50 %.1f us, p99 %.1f us, max %.1f us; stale steps %lld, late ticks %lld, "
+      "resent states %lld, waits for the recorder %lld",
+      completed ? "scenario complete" : "stopped", static_cast<long long>(r.steps),
+      static_cast<long long>(r.total_steps), r.wall_time_s,
+      static_cast<long long>(r.commands_received), static_cast<long long>(r.commands_ignored),
+      r.latency.p50_us, r.latency.p99_us, r.latency.max_us, static_cast<long long>(r.stale_steps),
+      static_cast<long long>(r.late_ticks), static_cast<long long>(r.resent_states),
+      static_cast<long long>(r.recorder_waits));
+  if (!params_.latency_report.empty()) {
+    std::ofstream f(params_.latency_report);
+    f << runReportJson(r) << "\n";
+    if (!f) ROS_ERROR("could not write ~latency_report '%s'", params_.latency_report.c_str());
+  }
+  if (completed && params_.shutdown_grace > 0.0) {
+    // Subscribers such as rosbag may still have the last samples in their socket buffers;
+    // keep the connections open briefly so nothing is cut off when this node exits.
+    ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+    const double end = wallNow() + params_.shutdown_grace;
+    while (ros::ok() && wallNow() < end) queue->callAvailable(ros::WallDuration(0.01));
+  }
+}
+
+RunReport PlantSimNode::report() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RunReport r;
+  r.clock = clockModeName(params_.clock);
+  r.scenario = sim_.scenario().name;
+  r.dt = sim_.dt();
+  r.rate_hz = params_.clock == ClockMode::kRealtime ? params_.rate : 0.0;
+  r.steps = sim_.step();
+  r.total_steps = sim_.totalSteps();
+  r.completed = completed_;
+  r.wall_time_s = (wall_end_ > 0.0 ? wall_end_ : wallNow()) - wall_start_;
+  r.commands_received = commands_received_;
+  r.commands_ignored = commands_ignored_;
+  r.stale_steps = stale_steps_;
+  r.late_ticks = late_ticks_;
+  r.resent_states = resent_;
+  r.recorder_waits = recorder_waits_;
+  r.latency = summarizeLatency(latency_us_);
+  return r;
+}
+
+int runPlantSimNode() {
+  PlantNodeParams params;
+  try {
+    params = readPlantNodeParams(readPrivateParams(), privateKeyStyle());
+  } catch (const ConfigError& e) {
+    logConfigProblems(e.problems());
+    return kExitConfigError;
+  }
+  ros::NodeHandle nh;
+  PlantSimNode node(nh, params);
+  return node.run();
+}
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

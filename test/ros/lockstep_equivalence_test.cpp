@@ -1,0 +1,282 @@
+/// \file lockstep_equivalence_test.cpp
+/// \brief rostest: plant_sim_node + mrac_controller_node in lockstep reproduce the batch CLI.
+///
+/// Subscribes every topic of the pair (the launch makes both nodes wait for these
+/// subscriptions before step 0, so nothing is missed), waits for the last step's status,
+/// runs `preadapt_sim` with the same scenario, mode and seed, and compares:
+/// - the run reaches the end: every step 0 .. N-1 exactly once on state, command and status;
+/// - alpha (plant/state), theta_hat (controller/status) and u (elevator_cmd) equal the CLI's
+///   CSV to 1e-9;
+/// - the attention events match the CLI's in count, type and time;
+/// - onsets and recoveries appear, and per-window peaks of |e| equal the CLI's;
+/// - in learning modes, ~weights_out holds the episodes of the last event.
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "preadaptive_mrac/AdaptationStatus.h"
+#include "preadaptive_mrac/AttentionEvent.h"
+#include "preadaptive_mrac/ElevatorCommand.h"
+#include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/PlantTruth.h"
+
+namespace pm = preadaptive_mrac;
+
+namespace {
+
+struct Recorded {
+  std::mutex m;
+  std::uint64_t total = 0;
+  std::vector<double> alpha, u, t;
+  std::vector<std::vector<double>> theta_hat;
+  std::vector<double> e;
+  std::vector<int> state_seen, cmd_seen, status_seen;
+  std::vector<pm::AttentionEvent> events;
+  std::int64_t truth_count = 0;
+  bool sized = false;
+  void size(std::uint64_t n) {
+    if (sized) return;
+    total = n;
+    alpha.assign(n, NAN);
+    u.assign(n, NAN);
+    t.assign(n, NAN);
+    e.assign(n, NAN);
+    theta_hat.assign(n, {});
+    state_seen.assign(n, 0);
+    cmd_seen.assign(n, 0);
+    status_seen.assign(n, 0);
+    sized = true;
+  }
+};
+
+/// The CLI's CSV as columns by name.
+std::map<std::string, std::vector<double>> readCsv(const std::string& path) {
+  std::ifstream f(path);
+  std::map<std::string, std::vector<double>> cols;
+  std::string line;
+  if (!std::getline(f, line)) return cols;
+  std::vector<std::string> names;
+  {
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) names.push_back(c);
+  }
+  while (std::getline(f, line)) {
+    std::stringstream ss(line);
+    std::string c;
+    size_t i = 0;
+    while (std::getline(ss, c, ',') && i < names.size()) cols[names[i++]].push_back(std::stod(c));
+  }
+  return cols;
+}
+
+/// Run a command; returns its stdout (empty on failure to start) and sets *rc.
+std::string runCommand(const std::string& cmd, int* rc) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (p == nullptr) {
+    *rc = -1;
+    return out;
+  }
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof(buf), p)) > 0) out.append(buf, n);
+  *rc = pclose(p);
+  return out;
+}
+
+std::string lastLine(const std::string& s) {
+  auto end = s.find_last_not_of('\n');
+  if (end == std::string::npos) return "";
+  auto start = s.rfind('\n', end);
+  return s.substr(start == std::string::npos ? 0 : start + 1,
+                  end - (start == std::string::npos ? 0 : start + 1) + 1);
+}
+
+}  // namespace
+
+class LockstepTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ros::NodeHandle pnh("~");
+    pnh.param<std::string>("mode", mode_, "rac");
+    pnh.param<std::string>("scenario", scenario_, "1");
+    pnh.param<int>("seed", seed_, 1);
+    pnh.param<double>("timeout", timeout_, 400.0);
+    pnh.param<std::string>("weights_out", weights_out_, "");
+  }
+  std::string mode_, scenario_, weights_out_;
+  int seed_ = 1;
+  double timeout_ = 400.0;
+};
+
+TEST_F(LockstepTest, ReproducesBatchCli) {
+  ros::NodeHandle nh;
+  Recorded rec;
+  auto hints = ros::TransportHints().tcpNoDelay();
+  // Queue size 0 = unbounded: a test must not lose samples to a full queue.
+  ros::Subscriber s1 = nh.subscribe<pm::PlantState>(
+      "plant/state", 0,
+      [&rec](const pm::PlantState::ConstPtr& m) {
+        std::lock_guard<std::mutex> l(rec.m);
+        rec.size(m->total_steps);
+        if (m->step >= rec.total) return;
+        rec.alpha[m->step] = m->alpha;
+        rec.t[m->step] = m->t;
+        rec.state_seen[m->step]++;
+      },
+      ros::VoidConstPtr(), hints);
+  ros::Subscriber s2 = nh.subscribe<pm::ElevatorCommand>(
+      "controller/elevator_cmd", 0,
+      [&rec](const pm::ElevatorCommand::ConstPtr& m) {
+        std::lock_guard<std::mutex> l(rec.m);
+        if (!rec.sized || m->step >= rec.total) return;
+        rec.u[m->step] = m->u;
+        rec.cmd_seen[m->step]++;
+      },
+      ros::VoidConstPtr(), hints);
+  ros::Subscriber s3 = nh.subscribe<pm::AdaptationStatus>(
+      "controller/status", 0,
+      [&rec](const pm::AdaptationStatus::ConstPtr& m) {
+        std::lock_guard<std::mutex> l(rec.m);
+        if (!rec.sized || m->step >= rec.total) return;
+        rec.theta_hat[m->step] = m->theta_hat;
+        rec.e[m->step] = m->e;
+        rec.status_seen[m->step]++;
+      },
+      ros::VoidConstPtr(), hints);
+  ros::Subscriber s4 = nh.subscribe<pm::AttentionEvent>(
+      "controller/attention", 0,
+      [&rec](const pm::AttentionEvent::ConstPtr& m) {
+        std::lock_guard<std::mutex> l(rec.m);
+        rec.events.push_back(*m);
+      },
+      ros::VoidConstPtr(), hints);
+  ros::Subscriber s5 = nh.subscribe<pm::PlantTruth>(
+      "plant/truth", 0,
+      [&rec](const pm::PlantTruth::ConstPtr&) {
+        std::lock_guard<std::mutex> l(rec.m);
+        rec.truth_count++;
+      },
+      ros::VoidConstPtr(), hints);
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+
+  // Wait (bounded) for the status of the last step: the controller publishes it last.
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_);
+  bool done = false;
+  while (ros::ok() && ros::WallTime::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> l(rec.m);
+      done = rec.sized && rec.total > 0 && rec.status_seen[rec.total - 1] > 0;
+    }
+    if (done) break;
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_TRUE(done) << "no status for the last step within " << timeout_ << " s";
+  spinner.stop();
+
+  // --- the batch CLI, same scenario, mode, seed and dt
+  const std::string csv = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
+                          "/pmrac_lockstep_cli_" + mode_ + "_" + std::to_string(::getpid()) +
+                          ".csv";
+  int rc = 0;
+  const std::string cmd = std::string(PMRAC_SIM_BIN) + " --scenario " + scenario_ + " --mode " +
+                          mode_ + " --seed " + std::to_string(seed_) + " --dt 0.001 --json --csv " +
+                          csv;
+  const std::string out = runCommand(cmd, &rc);
+  ASSERT_EQ(rc, 0) << cmd;
+  const YAML::Node json = YAML::Load(lastLine(out));
+  const auto cols = readCsv(csv);
+  std::remove(csv.c_str());
+  ASSERT_TRUE(cols.count("x1") && cols.count("theta_hat0") && cols.count("u"));
+  const size_t n = cols.at("x1").size();
+  ASSERT_EQ(n, rec.total) << "steps: CLI " << n << ", ROS " << rec.total;
+  ASSERT_EQ(json["steps"].as<std::uint64_t>(), rec.total);
+
+  // --- every step exactly once
+  for (size_t k = 0; k < n; ++k) {
+    ASSERT_EQ(rec.state_seen[k], 1) << "state of step " << k;
+    ASSERT_EQ(rec.cmd_seen[k], 1) << "command of step " << k;
+    ASSERT_EQ(rec.status_seen[k], 1) << "status of step " << k;
+  }
+  EXPECT_EQ(rec.truth_count, static_cast<std::int64_t>(n));
+
+  // --- series equal to 1e-9
+  double max_alpha = 0.0, max_th = 0.0, max_u = 0.0, max_t = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    max_alpha = std::max(max_alpha, std::abs(rec.alpha[k] - cols.at("x1")[k]));
+    max_u = std::max(max_u, std::abs(rec.u[k] - cols.at("u")[k]));
+    max_t = std::max(max_t, std::abs(rec.t[k] - cols.at("t")[k]));
+    ASSERT_EQ(rec.theta_hat[k].size(), 3u);
+    for (int i = 0; i < 3; ++i)
+      max_th = std::max(max_th, std::abs(rec.theta_hat[k][static_cast<size_t>(i)] -
+                                         cols.at("theta_hat" + std::to_string(i))[k]));
+  }
+  EXPECT_LE(max_alpha, 1e-9) << "alpha";
+  EXPECT_LE(max_th, 1e-9) << "theta_hat";
+  EXPECT_LE(max_u, 1e-9) << "u";
+  EXPECT_LE(max_t, 1e-12) << "t";
+  std::printf("[lockstep %s] %zu steps; max |diff| alpha %.3g, theta_hat %.3g, u %.3g\n",
+              mode_.c_str(), n, max_alpha, max_th, max_u);
+
+  // --- events: count, type and time
+  const YAML::Node ev = json["events"];
+  ASSERT_EQ(ev.size(), rec.events.size()) << "event count";
+  int onsets = 0, recoveries = 0;
+  for (size_t i = 0; i < rec.events.size(); ++i) {
+    EXPECT_EQ(ev[i]["type"].as<std::string>(), rec.events[i].type_name) << "event " << i;
+    EXPECT_NEAR(ev[i]["t"].as<double>(), rec.events[i].t, 1e-9) << "event " << i;
+    EXPECT_NEAR(ev[i]["e"].as<double>(), rec.events[i].e, 1e-9) << "event " << i;
+    if (rec.events[i].type == pm::AttentionEvent::ONSET) ++onsets;
+    if (rec.events[i].type == pm::AttentionEvent::RECOVERED) ++recoveries;
+  }
+  EXPECT_GE(onsets, 1);
+  EXPECT_GE(recoveries, 1);
+
+  // --- per-window peaks of |e| (windows hold (t_start, t_end]; sample 0 in the first)
+  const YAML::Node win = json["windows"];
+  ASSERT_GE(win.size(), 1u);
+  std::vector<double> t_end, peak(win.size(), 0.0);
+  for (size_t w = 0; w < win.size(); ++w) t_end.push_back(win[w]["t_end"].as<double>());
+  for (size_t k = 0; k < n; ++k) {
+    size_t w = 0;
+    while (w + 1 < t_end.size() && rec.t[k] > t_end[w]) ++w;
+    peak[w] = std::max(peak[w], std::abs(rec.e[k]));
+  }
+  for (size_t w = 0; w < win.size(); ++w) {
+    const double cli = win[w]["peak_abs_e"].as<double>();
+    EXPECT_NEAR(peak[w], cli, 1e-12 * std::max(1.0, cli)) << "window " << w;
+    std::printf("[lockstep %s] window %zu (%g, %g]: peak |e| ROS %.17g CLI %.17g\n", mode_.c_str(),
+                w, win[w]["t_start"].as<double>(), t_end[w], peak[w], cli);
+  }
+
+  // --- weights saved after each learning episode
+  if (!weights_out_.empty() && (mode_ == "pa_learn" || mode_ == "pa_learn_exact")) {
+    std::int64_t last_episodes = 0;
+    for (const auto& e : rec.events)
+      last_episodes = std::max<std::int64_t>(last_episodes, e.episodes);
+    ASSERT_GE(last_episodes, 1) << "no learning episode in a learning mode";
+    const YAML::Node w = YAML::LoadFile(weights_out_);
+    EXPECT_EQ(w["episodes"].as<std::int64_t>(), last_episodes) << weights_out_;
+    std::remove(weights_out_.c_str());
+  }
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "lockstep_equivalence_test");
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,206 @@
+/// \file test_node_params.cpp
+/// \brief The ROS nodes' parameter readers and latency statistics, without a master: every
+/// problem at once, each named by its fully resolved ROS key.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "preadaptive_mrac/io/weights_io.hpp"
+#include "preadaptive_mrac/io/yaml_params.hpp"
+#include "preadaptive_mrac/ros/latency_stats.hpp"
+#include "preadaptive_mrac/ros/node_params.hpp"
+
+namespace pm = preadaptive_mrac;
+using pm::ros1::ClockMode;
+
+namespace {
+
+pm::ParamValue loadConfig(const std::vector<std::string>& files) {
+  pm::ParamValue tree = pm::ParamValue::makeMap();
+  for (const auto& f : files) tree.merge(pm::loadYamlFile(std::string(PMRAC_CONFIG_DIR) + "/" + f));
+  return tree;
+}
+
+pm::KeyStyle style(const std::string& node) {
+  pm::KeyStyle s;
+  s.root = node + "/";
+  s.separator = '/';
+  return s;
+}
+
+std::vector<std::string> problemsOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const pm::ConfigError& e) {
+    return e.problems();
+  }
+  return {};
+}
+
+bool anyContains(const std::vector<std::string>& v, const std::string& needle) {
+  return std::any_of(v.begin(), v.end(),
+                     [&](const std::string& s) { return s.find(needle) != std::string::npos; });
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& p : v) s += p + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST(PlantNodeParams, DefaultsFromThePackageConfig) {
+  const pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  const auto p = pm::ros1::readPlantNodeParams(tree, style("/plant_sim"));
+  EXPECT_DOUBLE_EQ(p.dt, 0.001);
+  EXPECT_EQ(p.clock, ClockMode::kLockstep);
+  EXPECT_DOUBLE_EQ(p.rate, 1000.0);
+  EXPECT_EQ(p.world_frame, "world");
+  EXPECT_EQ(p.body_frame, "body");
+  EXPECT_EQ(p.velocity_frame, "velocity");
+  EXPECT_EQ(p.min_state_subscribers, 1);
+  EXPECT_EQ(p.run.plant.n(), 3);
+  EXPECT_DOUBLE_EQ(p.run.scenario.endTime(), 60.0);
+}
+
+TEST(PlantNodeParams, NodeKeysRead) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario2.yaml"});
+  tree.setPath("clock", pm::ParamValue::makeString("realtime"));
+  tree.setPath("rate", pm::ParamValue::makeInt(500));
+  tree.setPath("dt", pm::ParamValue::makeDouble(0.002));
+  tree.setPath("body_frame", pm::ParamValue::makeString("rac/body"));
+  const auto p = pm::ros1::readPlantNodeParams(tree, style("/rac/plant_sim"));
+  EXPECT_EQ(p.clock, ClockMode::kRealtime);
+  EXPECT_DOUBLE_EQ(p.rate, 500.0);
+  EXPECT_DOUBLE_EQ(p.dt, 0.002);
+  EXPECT_EQ(p.body_frame, "rac/body");
+}
+
+TEST(PlantNodeParams, EveryProblemAtOnceWithResolvedNames) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  tree.setPath("clock", pm::ParamValue::makeString("sometimes"));
+  tree.setPath("dt", pm::ParamValue::makeDouble(-0.001));
+  tree.setPath("rate", pm::ParamValue::makeString("fast"));
+  tree.setPath("tf_decimation", pm::ParamValue::makeInt(0));
+  tree.setPath("clok", pm::ParamValue::makeString("lockstep"));
+  tree.map().at("plant").map().erase("B");
+  const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+  const std::string all = joined(probs);
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/clock")) << all;
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/dt")) << all;
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/rate")) << all;
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/tf_decimation")) << all;
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/clok: unknown parameter")) << all;
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/plant/B")) << all;
+  EXPECT_GE(probs.size(), 6u) << all;
+}
+
+TEST(PlantNodeParams, MissingScenarioIsNamed) {
+  const pm::ParamValue tree = loadConfig({"plant/b747.yaml"});
+  const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/p")); });
+  EXPECT_TRUE(anyContains(probs, "/p/scenario")) << joined(probs);
+}
+
+TEST(ControllerNodeParams, DefaultsFromThePackageConfig) {
+  const pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  const auto p = pm::ros1::readControllerNodeParams(tree, style("/mrac_controller"));
+  EXPECT_TRUE(p.weights_in.empty());
+  EXPECT_TRUE(p.weights_out.empty());
+  EXPECT_TRUE(p.save_every_episode);
+  EXPECT_EQ(p.min_command_subscribers, 1);
+  EXPECT_EQ(p.run.controller.mode, pm::Mode::kPaLearn);
+  EXPECT_EQ(p.run.controller.hidden, 3);
+  EXPECT_EQ(p.stale_policy, pm::StalePolicy::kBaselineHold);
+}
+
+TEST(ControllerNodeParams, MissingKeyWrongTypeAndUnknownTogether) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  tree.map().at("controller").map().at("adaptation").map().erase("gamma");
+  tree.setPath("controller.lqr.R", pm::ParamValue::makeString("one"));
+  tree.setPath("min_command_subscribers", pm::ParamValue::makeInt(-1));
+  tree.setPath("weights_inn", pm::ParamValue::makeString("/tmp/w.yaml"));
+  tree.setPath("stale_policy", pm::ParamValue::makeString("hover"));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/ns/mrac_controller")); });
+  const std::string all = joined(probs);
+  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/controller/adaptation/gamma")) << all;
+  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/controller/lqr/R")) << all;
+  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/min_command_subscribers")) << all;
+  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/weights_inn: unknown parameter")) << all;
+  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/stale_policy")) << all;
+}
+
+TEST(ControllerNodeParams, NotStabilisableNamesThePlant) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  // A's eigenvalue 0 has the left eigenvector w = [2.18, 1, 2]; w^T B = 0 for B = [0, 2, -1].
+  tree.setPath("plant.B", pm::ParamValue::makeList({pm::ParamValue::makeDouble(0.0),
+                                                    pm::ParamValue::makeDouble(2.0),
+                                                    pm::ParamValue::makeDouble(-1.0)}));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
+  EXPECT_TRUE(anyContains(probs, "/mrac_controller/plant/A")) << joined(probs);
+  EXPECT_TRUE(anyContains(probs, "not_stabilizable")) << joined(probs);
+}
+
+TEST(ControllerNodeParams, WeightsInCheckedWithTheOtherProblems) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  tree.setPath("weights_in", pm::ParamValue::makeString("/nonexistent/dir/w.yaml"));
+  auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
+  EXPECT_TRUE(anyContains(probs, "/mrac_controller/weights_in")) << joined(probs);
+
+  // A readable file of the wrong size is refused too; one of the right size is accepted.
+  const std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
+                           "/pmrac_node_params_w_" + std::to_string(::getpid()) + ".yaml";
+  pm::PreadaptNetwork wrong(4, 3, 1, 1.0);
+  pm::saveWeights(path, wrong.state());
+  tree.setPath("weights_in", pm::ParamValue::makeString(path));
+  probs = problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
+  EXPECT_TRUE(anyContains(probs, "/mrac_controller/weights_in")) << joined(probs);
+  pm::PreadaptNetwork right(3, 3, 7, 1.0);
+  pm::saveWeights(path, right.state());
+  const auto p = pm::ros1::readControllerNodeParams(tree, style("/mrac_controller"));
+  EXPECT_EQ(p.weights_in, path);
+  std::remove(path.c_str());
+}
+
+TEST(LatencyStats, NearestRankPercentiles) {
+  std::vector<double> v;
+  for (int i = 100; i >= 1; --i) v.push_back(static_cast<double>(i));
+  const auto s = pm::ros1::summarizeLatency(v);
+  EXPECT_EQ(s.count, 100u);
+  EXPECT_DOUBLE_EQ(s.p50_us, 50.0);
+  EXPECT_DOUBLE_EQ(s.p99_us, 99.0);
+  EXPECT_DOUBLE_EQ(s.max_us, 100.0);
+  EXPECT_DOUBLE_EQ(s.mean_us, 50.5);
+  const auto one = pm::ros1::summarizeLatency({7.0});
+  EXPECT_DOUBLE_EQ(one.p50_us, 7.0);
+  EXPECT_DOUBLE_EQ(one.p99_us, 7.0);
+  const auto none = pm::ros1::summarizeLatency({});
+  EXPECT_EQ(none.count, 0u);
+  EXPECT_DOUBLE_EQ(none.max_us, 0.0);
+}
+
+TEST(LatencyStats, ReportJson) {
+  pm::ros1::RunReport r;
+  r.clock = "realtime";
+  r.scenario = "scenario\"1";
+  r.steps = 10;
+  r.stale_steps = 2;
+  r.latency = pm::ros1::summarizeLatency({1.0, 2.0, 3.0});
+  const std::string j = pm::ros1::runReportJson(r);
+  EXPECT_NE(j.find("\"clock\": \"realtime\""), std::string::npos) << j;
+  EXPECT_NE(j.find("\"scenario\": \"scenario\\\"1\""), std::string::npos) << j;
+  EXPECT_NE(j.find("\"stale_steps\": 2"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"p50\": 2"), std::string::npos) << j;
+  EXPECT_EQ(j.find('\n'), std::string::npos);
+}
