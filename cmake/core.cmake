@@ -41,3 +41,8 @@ install(TARGETS preadapt_sim preadapt_sweep RUNTIME DESTINATION ${CATKIN_PACKAGE
 install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 install(DIRECTORY config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
   OPTIONAL)
+
+# Python tools (run with the system python3 that has the ROS modules).
+catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers
+  DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(FILES scripts/pmrac_analysis.py DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
