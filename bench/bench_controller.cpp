@@ -136,7 +136,8 @@ std::string verifyReplay(const Recording& rec) {
   size_t ev = 0;
   for (size_t k = 0; k < rec.steps(); ++k) {
     const StepOutput o = ctl.step(inputAt(rec, k));
-    if (o.u != rec.u[k]) return "replay differs from the closed loop at t = " + std::to_string(rec.t[k]);
+    if (o.u != rec.u[k])
+      return "replay differs from the closed loop at t = " + std::to_string(rec.t[k]);
     if (o.event) {
       if (ev >= rec.events.size() || rec.events[ev].first != o.event->type ||
           rec.events[ev].second != o.event->t)
@@ -221,9 +222,9 @@ void BM_ClosedLoopScenario3(benchmark::State& state, const Recording* rec) {
   }
   state.counters["steps"] = static_cast<double>(steps);
   // CPU seconds per sample (Google Benchmark divides rates by the CPU time).
-  state.counters["per_step"] = benchmark::Counter(
-      static_cast<double>(steps),
-      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["per_step"] =
+      benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsIterationInvariantRate |
+                                                         benchmark::Counter::kInvert);
 }
 
 }  // namespace

@@ -72,7 +72,8 @@ void ScenarioPlant::sampleInputs() {
   theta_ = scenario_.thetaAt(t + 0.5 * dt_);
   measured_ = plant_.state();
   if (noise_cfg_.active())
-    for (Eigen::Index i = 0; i < measured_.size(); ++i) measured_[i] += noise_cfg_.std[i] * noise_.next();
+    for (Eigen::Index i = 0; i < measured_.size(); ++i)
+      measured_[i] += noise_cfg_.std[i] * noise_.next();
 }
 
 void ScenarioPlant::advance(double u) {
@@ -98,7 +99,8 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
     auto& s = res.series;
     for (auto* v : {&s.t, &s.e, &s.e_dot, &s.u, &s.u_bl, &s.u_ad, &s.r})
       v->reserve(static_cast<size_t>(steps));
-    for (auto* v : {&s.x, &s.x_r, &s.theta_hat, &s.theta_true}) v->reserve(static_cast<size_t>(steps));
+    for (auto* v : {&s.x, &s.x_r, &s.theta_hat, &s.theta_true})
+      v->reserve(static_cast<size_t>(steps));
     s.phase.reserve(static_cast<size_t>(steps));
     s.saturated.reserve(static_cast<size_t>(steps));
   }

@@ -10,10 +10,14 @@ namespace preadaptive_mrac {
 
 const char* modeName(Mode m) {
   switch (m) {
-    case Mode::kRac: return "rac";
-    case Mode::kPa: return "pa";
-    case Mode::kPaLearn: return "pa_learn";
-    case Mode::kPaLearnExact: return "pa_learn_exact";
+    case Mode::kRac:
+      return "rac";
+    case Mode::kPa:
+      return "pa";
+    case Mode::kPaLearn:
+      return "pa_learn";
+    case Mode::kPaLearnExact:
+      return "pa_learn_exact";
   }
   return "?";
 }
@@ -28,10 +32,14 @@ std::optional<Mode> parseMode(const std::string& s) {
 
 const char* eventTypeName(Event::Type t) {
   switch (t) {
-    case Event::Type::kOnset: return "onset";
-    case Event::Type::kRecovered: return "recovered";
-    case Event::Type::kIgnoredOnset: return "ignored_onset";
-    case Event::Type::kIgnoredRecovery: return "ignored_recovery";
+    case Event::Type::kOnset:
+      return "onset";
+    case Event::Type::kRecovered:
+      return "recovered";
+    case Event::Type::kIgnoredOnset:
+      return "ignored_onset";
+    case Event::Type::kIgnoredRecovery:
+      return "ignored_recovery";
   }
   return "?";
 }
@@ -90,21 +98,24 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
   if (r.usable(p + ".preadaptation.init_scale") && !(init_scale >= 0.0))
     r.fail(p + ".preadaptation.init_scale", "must be >= 0, got " + formatNumber(init_scale));
   if (r.usable(p + ".preadaptation.hidden") && (hidden < 1 || hidden > kMaxHidden))
-    r.fail(p + ".preadaptation.hidden", "must be in [1, " + std::to_string(kMaxHidden) + "], got " +
-                                            std::to_string(hidden));
+    r.fail(p + ".preadaptation.hidden",
+           "must be in [1, " + std::to_string(kMaxHidden) + "], got " + std::to_string(hidden));
   if (r.usable(p + ".attention.confirm_samples") && confirm_samples < 0)
-    r.fail(p + ".attention.confirm_samples", "must be >= 0, got " + std::to_string(confirm_samples));
+    r.fail(p + ".attention.confirm_samples",
+           "must be >= 0, got " + std::to_string(confirm_samples));
   if (r.usable(p + ".attention.hysteresis") && !(hysteresis >= 0.0 && hysteresis < c_e))
     r.fail(p + ".attention.hysteresis",
            "must be in [0, c_e = " + formatNumber(c_e) + "), got " + formatNumber(hysteresis));
   if (r.has(p + ".projection")) {
     positive(p + ".projection.theta_max", theta_max);
-    if (r.usable(p + ".projection.epsilon") && !(projection_epsilon > 0.0 && projection_epsilon <= 1.0))
-      r.fail(p + ".projection.epsilon", "must be in (0, 1], got " + formatNumber(projection_epsilon));
+    if (r.usable(p + ".projection.epsilon") &&
+        !(projection_epsilon > 0.0 && projection_epsilon <= 1.0))
+      r.fail(p + ".projection.epsilon",
+             "must be in (0, 1], got " + formatNumber(projection_epsilon));
     if (projection && theta_hat0.size() > 0 && r.usable(p + ".adaptation.theta_hat0") &&
         theta_hat0.norm() > theta_max)
-      r.fail(p + ".adaptation.theta_hat0", "lies outside Omega (norm " +
-                                               formatNumber(theta_hat0.norm()) + " > theta_max)");
+      r.fail(p + ".adaptation.theta_hat0",
+             "lies outside Omega (norm " + formatNumber(theta_hat0.norm()) + " > theta_max)");
   }
   if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
     if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
@@ -142,7 +153,7 @@ Attention::Result Attention::decideDown(double e_dot) {
 }
 
 Attention::Result Attention::update(double e, double e_dot) {
-  const double s = std::abs(e) - c_e_;          // onset threshold
+  const double s = std::abs(e) - c_e_;            // onset threshold
   const double d = std::abs(e) - (c_e_ - hyst_);  // recovery threshold
   if (!primed_) {
     primed_ = true;
@@ -200,8 +211,8 @@ PiMat SensitivityTracker::pi(const Vec& ev, const Vec& x, const Vec& theta_err) 
   PiMat P = PiMat::Zero(2 * n_, 2 * n_);
   P.topLeftCorner(n_, n_) = Ar_ + B_ * theta_err.transpose();
   P.topRightCorner(n_, n_) = -B_ * x.transpose();
-  P.bottomLeftCorner(n_, n_) = gamma_ * ev.dot(PB_) * Mat::Identity(n_, n_) +
-                               gamma_ * x * PB_.transpose();
+  P.bottomLeftCorner(n_, n_) =
+      gamma_ * ev.dot(PB_) * Mat::Identity(n_, n_) + gamma_ * x * PB_.transpose();
   return P;
 }
 
@@ -342,9 +353,14 @@ StepOutput Controller::step(const StepInput& in) {
           ev.learned = true;
         }
         break;
-      case Attention::Result::kIgnoredOnset: ev.type = Event::Type::kIgnoredOnset; break;
-      case Attention::Result::kIgnoredRecovery: ev.type = Event::Type::kIgnoredRecovery; break;
-      case Attention::Result::kNone: break;
+      case Attention::Result::kIgnoredOnset:
+        ev.type = Event::Type::kIgnoredOnset;
+        break;
+      case Attention::Result::kIgnoredRecovery:
+        ev.type = Event::Type::kIgnoredRecovery;
+        break;
+      case Attention::Result::kNone:
+        break;
     }
     ev.theta_hat_after = theta_hat_;
     ev.episodes = net_.state().episodes;

@@ -133,12 +133,20 @@ std::string ParamValue::describe() const {
   std::ostringstream os;
   os.precision(17);
   switch (type_) {
-    case Type::kNull: return "null";
-    case Type::kBool: return b_ ? "true" : "false";
-    case Type::kInt: os << i_; return os.str();
-    case Type::kDouble: os << d_; return os.str();
-    case Type::kString: return "'" + s_ + "'";
-    case Type::kMap: return "a map";
+    case Type::kNull:
+      return "null";
+    case Type::kBool:
+      return b_ ? "true" : "false";
+    case Type::kInt:
+      os << i_;
+      return os.str();
+    case Type::kDouble:
+      os << d_;
+      return os.str();
+    case Type::kString:
+      return "'" + s_ + "'";
+    case Type::kMap:
+      return "a map";
     case Type::kList: {
       os << '[';
       for (size_t i = 0; i < list_.size(); ++i) {
@@ -158,13 +166,20 @@ std::string ParamValue::describe() const {
 
 const char* ParamValue::typeName(Type t) {
   switch (t) {
-    case Type::kNull: return "null";
-    case Type::kBool: return "bool";
-    case Type::kInt: return "int";
-    case Type::kDouble: return "double";
-    case Type::kString: return "string";
-    case Type::kList: return "list";
-    case Type::kMap: return "map";
+    case Type::kNull:
+      return "null";
+    case Type::kBool:
+      return "bool";
+    case Type::kInt:
+      return "int";
+    case Type::kDouble:
+      return "double";
+    case Type::kString:
+      return "string";
+    case Type::kList:
+      return "list";
+    case Type::kMap:
+      return "map";
   }
   return "?";
 }
@@ -281,8 +296,8 @@ Eigen::VectorXd ParamReader::getVector(const std::string& dotted, int expected_s
   const ParamValue* v = lookup(dotted, true);
   if (v == nullptr) return Eigen::VectorXd::Zero(expected_size > 0 ? expected_size : 0);
   if (v->type() != ParamValue::Type::kList) {
-    fail(dotted, std::string("expected a list of numbers, got ") +
-                     ParamValue::typeName(v->type()) + " " + v->describe());
+    fail(dotted, std::string("expected a list of numbers, got ") + ParamValue::typeName(v->type()) +
+                     " " + v->describe());
     return Eigen::VectorXd::Zero(expected_size > 0 ? expected_size : 0);
   }
   const auto& l = v->list();
@@ -387,7 +402,8 @@ void ParamReader::fail(const std::string& dotted, const std::string& what) {
 bool ParamReader::failed(const std::string& dotted) const {
   for (const auto& f : failed_) {
     if (f.compare(0, dotted.size(), dotted) != 0) continue;
-    if (f.size() == dotted.size() || f[dotted.size()] == '[' || f[dotted.size()] == '.') return true;
+    if (f.size() == dotted.size() || f[dotted.size()] == '[' || f[dotted.size()] == '.')
+      return true;
   }
   return false;
 }
@@ -404,7 +420,8 @@ std::string formatNumber(double v) {
 void ParamReader::failGeneral(const std::string& what) { problems_.push_back(what); }
 
 void ParamReader::rejectUnusedUnder(const std::string& dotted) {
-  for (const auto& k : unusedUnder(dotted)) fail(k, "unknown key (not a parameter of this package)");
+  for (const auto& k : unusedUnder(dotted))
+    fail(k, "unknown key (not a parameter of this package)");
 }
 
 void ParamReader::throwIfProblems() const {

@@ -54,7 +54,8 @@ void PlantConfig::validate(ParamReader& r, const std::string& prefix) const {
   if (r.usable(prefix + ".output_index") && (output_index < 0 || output_index >= n))
     r.fail(prefix + ".output_index",
            "must be in [0, " + std::to_string(n - 1) + "], got " + std::to_string(output_index));
-  if (r.usable(prefix + ".B") && B.size() == n && B.isZero(0.0)) r.fail(prefix + ".B", "must not be all zero");
+  if (r.usable(prefix + ".B") && B.size() == n && B.isZero(0.0))
+    r.fail(prefix + ".B", "must not be all zero");
 }
 
 double ActuatorLimits::apply(double u, double u_prev, double dt) const {

@@ -1,9 +1,8 @@
 #include "preadaptive_mrac/core/solvers.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <sstream>
-
-#include <Eigen/Eigenvalues>
 
 namespace preadaptive_mrac {
 
@@ -46,8 +45,7 @@ bool isStabilizable(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, double t
     const std::complex<double> lambda = es.eigenvalues()[i];
     if (lambda.real() < -tol * scale) continue;
     Eigen::MatrixXcd M(n, n + 1);
-    M.leftCols(n) = A.cast<std::complex<double>>() -
-                    lambda * Eigen::MatrixXcd::Identity(n, n);
+    M.leftCols(n) = A.cast<std::complex<double>>() - lambda * Eigen::MatrixXcd::Identity(n, n);
     M.col(n) = B.cast<std::complex<double>>();
     Eigen::JacobiSVD<Eigen::MatrixXcd> svd(M);
     if (svd.singularValues()(n - 1) <= tol * scale * 1e3) return false;
@@ -69,9 +67,10 @@ Eigen::MatrixXd solveLyapunov(const Eigen::MatrixXd& A, const Eigen::MatrixXd& Q
     for (int j = 0; j < n; ++j) M.block(i * n, j * n, n, n).diagonal().array() += At(i, j);
   Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
   if (!lu.isInvertible())
-    throw SolverError("singular",
-                      "Lyapunov equation is singular: A has eigenvalues lambda_i + lambda_j = 0, A = " +
-                          matStr(A));
+    throw SolverError(
+        "singular",
+        "Lyapunov equation is singular: A has eigenvalues lambda_i + lambda_j = 0, A = " +
+            matStr(A));
   Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(Q.data(), m);
   Eigen::VectorXd x = lu.solve(-q);
   // Iterative refinement: ill-conditioned A (eigenvalues of very different size) leaves a
@@ -114,8 +113,7 @@ LqrSolution solveLqr(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, const E
                                        std::to_string(Q.cols()));
   if (!A.allFinite() || !B.allFinite() || !Q.allFinite() || !std::isfinite(R))
     throw SolverError("dimension", "A, B, Q and R must be finite");
-  if (!(R > 0.0))
-    throw SolverError("r_not_positive", "R must be > 0, got " + std::to_string(R));
+  if (!(R > 0.0)) throw SolverError("r_not_positive", "R must be > 0, got " + std::to_string(R));
   const double qscale = std::max(1.0, Q.norm());
   if ((Q - Q.transpose()).norm() > 1e-12 * qscale)
     throw SolverError("q_not_symmetric", "Q must be symmetric, got " + matStr(Q));
@@ -174,8 +172,9 @@ LqrSolution solveLqr(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, const E
   sol.K = (B.transpose() * X) / R;
   sol.relative_residual = res;
   if (!isHurwitz(A - B * sol.K))
-    throw SolverError("not_hurwitz", "the LQR closed loop A - B K is not Hurwitz (spectral abscissa " +
-                                         std::to_string(spectralAbscissa(A - B * sol.K)) + ")");
+    throw SolverError("not_hurwitz",
+                      "the LQR closed loop A - B K is not Hurwitz (spectral abscissa " +
+                          std::to_string(spectralAbscissa(A - B * sol.K)) + ")");
   return sol;
 }
 

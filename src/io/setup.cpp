@@ -21,7 +21,8 @@ std::string configDir() {
 }
 
 std::string scenarioPath(const std::string& arg) {
-  if (arg == "1" || arg == "2" || arg == "3") return configDir() + "/scenarios/scenario" + arg + ".yaml";
+  if (arg == "1" || arg == "2" || arg == "3")
+    return configDir() + "/scenarios/scenario" + arg + ".yaml";
   return arg;
 }
 
@@ -98,10 +99,18 @@ class Json {
     os_ << '"';
     for (char c : s) {
       switch (c) {
-        case '"': os_ << "\\\""; break;
-        case '\\': os_ << "\\\\"; break;
-        case '\n': os_ << "\\n"; break;
-        case '\t': os_ << "\\t"; break;
+        case '"':
+          os_ << "\\\"";
+          break;
+        case '\\':
+          os_ << "\\\\";
+          break;
+        case '\n':
+          os_ << "\\n";
+          break;
+        case '\t':
+          os_ << "\\t";
+          break;
         default:
           if (static_cast<unsigned char>(c) < 0x20) {
             char buf[8];

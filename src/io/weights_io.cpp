@@ -125,28 +125,30 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
   const std::int64_t hidden = r.getInt("hidden");
   const std::int64_t outputs = r.getInt("outputs");
   if (r.has("hidden") && (hidden < 1 || hidden > kMaxHidden))
-    r.fail("hidden", "must be in [1, " + std::to_string(kMaxHidden) + "], got " +
-                         std::to_string(hidden));
+    r.fail("hidden",
+           "must be in [1, " + std::to_string(kMaxHidden) + "], got " + std::to_string(hidden));
   if (r.has("outputs") && (outputs < 1 || outputs > kMaxStates))
-    r.fail("outputs", "must be in [1, " + std::to_string(kMaxStates) + "], got " +
-                          std::to_string(outputs));
+    r.fail("outputs",
+           "must be in [1, " + std::to_string(kMaxStates) + "], got " + std::to_string(outputs));
   NetworkState s;
   const std::int64_t seed = r.getInt("seed");
   s.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
   s.init_scale = r.getDouble("init_scale");
   s.episodes = r.getInt("episodes");
   if (r.has("episodes") && s.episodes < 0) r.fail("episodes", "must be >= 0");
-  if (!r.ok()) throw WeightsError(std::string("corrupt weights file: ") + ConfigError(r.problems()).what());
+  if (!r.ok())
+    throw WeightsError(std::string("corrupt weights file: ") + ConfigError(r.problems()).what());
   const Eigen::MatrixXd V = r.getMatrix("V", kNetInputs, static_cast<int>(hidden));
   const Eigen::MatrixXd W = r.getMatrix("W", static_cast<int>(hidden), static_cast<int>(outputs));
   r.rejectUnusedUnder("");
-  if (!r.ok()) throw WeightsError(std::string("corrupt weights file: ") + ConfigError(r.problems()).what());
+  if (!r.ok())
+    throw WeightsError(std::string("corrupt weights file: ") + ConfigError(r.problems()).what());
   if ((expected_hidden >= 0 && hidden != expected_hidden) ||
       (expected_outputs >= 0 && outputs != expected_outputs))
     throw WeightsError(origin + ": weights are for hidden=" + std::to_string(hidden) +
-                       ", outputs=" + std::to_string(outputs) + " but the controller needs hidden=" +
-                       std::to_string(expected_hidden) + ", outputs=" +
-                       std::to_string(expected_outputs) +
+                       ", outputs=" + std::to_string(outputs) +
+                       " but the controller needs hidden=" + std::to_string(expected_hidden) +
+                       ", outputs=" + std::to_string(expected_outputs) +
                        " (controller.preadaptation.hidden and the plant's state size)");
   s.V = V;
   s.W = W;

@@ -1,5 +1,7 @@
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -7,8 +9,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-
-#include <yaml-cpp/yaml.h>
 
 namespace preadaptive_mrac {
 
@@ -43,8 +43,10 @@ ParamValue scalarToParam(const YAML::Node& n) {
 ParamValue toParam(const YAML::Node& n) {
   switch (n.Type()) {
     case YAML::NodeType::Null:
-    case YAML::NodeType::Undefined: return ParamValue();
-    case YAML::NodeType::Scalar: return scalarToParam(n);
+    case YAML::NodeType::Undefined:
+      return ParamValue();
+    case YAML::NodeType::Scalar:
+      return scalarToParam(n);
     case YAML::NodeType::Sequence: {
       std::vector<ParamValue> items;
       for (const auto& c : n) items.push_back(toParam(c));
@@ -97,7 +99,8 @@ ParamValue loadYamlFile(const std::string& path) {
 void applyOverride(ParamValue* tree, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw FileError("--set '" + assignment + "': expected key=value, e.g. controller.attention.c_e=0.01");
+    throw FileError("--set '" + assignment +
+                    "': expected key=value, e.g. controller.attention.c_e=0.01");
   const std::string key = assignment.substr(0, eq);
   const std::string value = assignment.substr(eq + 1);
   YAML::Node n;

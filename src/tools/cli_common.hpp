@@ -43,7 +43,8 @@ struct PreparedRun {
 /// \brief Load files, apply --set and flags, validate everything. Throws UsageError.
 PreparedRun prepare(const RunRequest& req);
 /// \brief Run the closed loop; `controller` receives the controller (for its final network).
-SimResult execute(const PreparedRun& run, bool record_series, std::unique_ptr<Controller>* controller);
+SimResult execute(const PreparedRun& run, bool record_series,
+                  std::unique_ptr<Controller>* controller);
 
 double parseDouble(const std::string& flag, const std::string& text);
 std::uint64_t parseSeed(const std::string& flag, const std::string& text);

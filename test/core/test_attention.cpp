@@ -32,7 +32,7 @@ TEST(VelocityEstimator, TracksARampAndStartsAtZero) {
   EXPECT_EQ(v.update(0.3), 0.0);  // first sample: no history
   double est = 0.0;
   for (int k = 1; k <= 200; ++k) est = v.update(0.3 + 0.05 * k * kDt);
-  EXPECT_NEAR(est, 0.05, 1e-6);  // after 20 time constants the lag is gone
+  EXPECT_NEAR(est, 0.05, 1e-6);     // after 20 time constants the lag is gone
   VelocityEstimator raw(0.0, kDt);  // tau = 0: plain backward difference
   raw.update(1.0);
   EXPECT_NEAR(raw.update(1.002), 2.0, 1e-9);
@@ -61,8 +61,8 @@ TEST(Attention, RecoveryOnlyInsideAPhase) {
   ASSERT_EQ(ignored.size(), 1u);
   EXPECT_EQ(ignored[0].second, R::kIgnoredRecovery);
   // Fast rise (onset), then a slow fall through c_e: recovered.
-  const auto phase = run(
-      [](double t) { return t < 0.2 ? 0.05 * t : 0.01 - 0.005 * (t - 0.2); }, 2.0);
+  const auto phase =
+      run([](double t) { return t < 0.2 ? 0.05 * t : 0.01 - 0.005 * (t - 0.2); }, 2.0);
   ASSERT_EQ(phase.size(), 2u);
   EXPECT_EQ(phase[0].second, R::kOnset);
   EXPECT_EQ(phase[1].second, R::kRecovered);
@@ -74,10 +74,10 @@ TEST(Attention, FastFallDoesNotEndAPhaseAndSecondOnsetIsIgnored) {
   // onset: the phase is still active), then slow down (recovered).
   const auto ev = run(
       [](double t) {
-        if (t < 0.2) return 0.05 * t;          // up to 0.01
+        if (t < 0.2) return 0.05 * t;                 // up to 0.01
         if (t < 0.4) return 0.01 - 0.05 * (t - 0.2);  // down to 0 fast
-        if (t < 0.6) return 0.05 * (t - 0.4);  // up to 0.01 fast
-        return 0.01 - 0.005 * (t - 0.6);       // slow fall
+        if (t < 0.6) return 0.05 * (t - 0.4);         // up to 0.01 fast
+        return 0.01 - 0.005 * (t - 0.6);              // slow fall
       },
       3.0);
   ASSERT_EQ(ev.size(), 3u);

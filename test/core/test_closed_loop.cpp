@@ -71,7 +71,8 @@ TEST(ClosedLoop, RegularAdaptiveControlStaysBoundedAndRecoversAfterEachSwitch) {
   for (size_t i = 1; i < w.size(); ++i) {
     double tail = 0.0;
     for (size_t k = 0; k < s.t.size(); ++k)
-      if (s.t[k] > w[i].t_end - 2.0 && s.t[k] <= w[i].t_end) tail = std::max(tail, std::abs(s.e[k]));
+      if (s.t[k] > w[i].t_end - 2.0 && s.t[k] <= w[i].t_end)
+        tail = std::max(tail, std::abs(s.e[k]));
     EXPECT_GT(w[i].peak_abs_e, 0.005) << "window " << i;
     EXPECT_LT(tail, 0.2 * w[i].peak_abs_e) << "window " << i;
   }

@@ -1,6 +1,5 @@
 // Configuration: every problem at once, named by key; the CLI's exit codes and JSON.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -61,21 +60,23 @@ TEST(Config, PackageFilesAreValid) {
 
 TEST(Config, EveryProblemAtOnceNamedByKey) {
   ParamValue t = test::packageTree();
-  t.map()["controller"].map()["attention"].map().erase("c_e");                  // missing
-  t.setPath("controller.adaptation.gamma", ParamValue::makeString("ten"));      // wrong type
-  t.setPath("controller.attention.c_ed", ParamValue::makeDouble(-1));           // sign
-  t.setPath("controller.sample_time", ParamValue::makeDouble(std::nan("")));   // non-finite
+  t.map()["controller"].map()["attention"].map().erase("c_e");                // missing
+  t.setPath("controller.adaptation.gamma", ParamValue::makeString("ten"));    // wrong type
+  t.setPath("controller.attention.c_ed", ParamValue::makeDouble(-1));         // sign
+  t.setPath("controller.sample_time", ParamValue::makeDouble(std::nan("")));  // non-finite
   t.setPath("plant.B", ParamValue::makeList({ParamValue::makeInt(1), ParamValue::makeInt(2)}));
-  t.setPath("controller.attention.ce", ParamValue::makeDouble(0.1));            // typo
-  t.setPath("scenario.theta.2.until", ParamValue::makeDouble(3.0));             // not increasing
+  t.setPath("controller.attention.ce", ParamValue::makeDouble(0.1));  // typo
+  t.setPath("scenario.theta.2.until", ParamValue::makeDouble(3.0));   // not increasing
   const auto ps = problemsOf(t);
   EXPECT_TRUE(mentions(ps, "controller.attention.c_e: missing")) << joined(ps);
-  EXPECT_TRUE(mentions(ps, "controller.adaptation.gamma: expected a number, got string")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "controller.adaptation.gamma: expected a number, got string"))
+      << joined(ps);
   EXPECT_TRUE(mentions(ps, "controller.attention.c_ed: must be > 0")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "controller.sample_time: expected a finite number")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "plant.B: expected 3 numbers")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "controller.attention.ce: unknown key")) << joined(ps);
-  EXPECT_TRUE(mentions(ps, "scenario.theta.2.until: segments must end at increasing times")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "scenario.theta.2.until: segments must end at increasing times"))
+      << joined(ps);
   EXPECT_GE(ps.size(), 7u);
 }
 
@@ -89,13 +90,14 @@ TEST(Config, RosStyleNamesAreFullyResolved) {
 TEST(Config, NonStabilisablePlantIsRefusedNamingTheKey) {
   ParamValue t = test::packageTree();
   // Make the integrator unreachable and unstable: A(0,0) = 1 with B(0) = 0 and no coupling.
-  t.setPath("plant.A", ParamValue::makeList({
-                           ParamValue::makeList({ParamValue::makeDouble(1), ParamValue::makeDouble(0),
-                                                 ParamValue::makeDouble(0)}),
-                           ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-0.32),
-                                                 ParamValue::makeDouble(0.86)}),
-                           ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-0.93),
-                                                 ParamValue::makeDouble(-0.43)})}));
+  t.setPath("plant.A",
+            ParamValue::makeList(
+                {ParamValue::makeList({ParamValue::makeDouble(1), ParamValue::makeDouble(0),
+                                       ParamValue::makeDouble(0)}),
+                 ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-0.32),
+                                       ParamValue::makeDouble(0.86)}),
+                 ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-0.93),
+                                       ParamValue::makeDouble(-0.43)})}));
   const auto ps = problemsOf(t);
   EXPECT_TRUE(mentions(ps, "plant.A: (A, B) is not stabilisable")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "[not_stabilizable]")) << joined(ps);
@@ -104,8 +106,8 @@ TEST(Config, NonStabilisablePlantIsRefusedNamingTheKey) {
 TEST(Config, ScenarioSegments) {
   ParamValue t = test::packageTree();
   t.setPath("scenario.theta.1.theta",
-            ParamValue::makeList({ParamValue::makeDouble(1), ParamValue::makeDouble(2),
-                                  ParamValue::makeDouble(3)}));
+            ParamValue::makeList(
+                {ParamValue::makeDouble(1), ParamValue::makeDouble(2), ParamValue::makeDouble(3)}));
   auto ps = problemsOf(t);
   EXPECT_TRUE(mentions(ps, "scenario.theta.1: give exactly one of 'scale'")) << joined(ps);
   t.map()["scenario"].map()["theta"].list()[1].map().erase("scale");
@@ -117,10 +119,10 @@ TEST(Cli, JsonHasTheDocumentedFields) {
   const CmdResult r = runCli("--scenario 1 --mode rac --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const std::string last = r.out.substr(r.out.rfind('{', r.out.find("\"scenario\"")));
-  for (const char* key : {"\"scenario\":\"1\"", "\"mode\":\"rac\"", "\"seed\":", "\"dt\":0.001",
-                          "\"K\":[", "\"P\":[[", "\"events\":[", "\"windows\":[", "\"iae\":",
-                          "\"peak_abs_e\":", "\"max_abs_u\":", "\"wall_time_s\":",
-                          "\"recovery_time\":", "\"type\":\"onset\""})
+  for (const char* key :
+       {"\"scenario\":\"1\"", "\"mode\":\"rac\"", "\"seed\":", "\"dt\":0.001", "\"K\":[",
+        "\"P\":[[", "\"events\":[", "\"windows\":[", "\"iae\":", "\"peak_abs_e\":",
+        "\"max_abs_u\":", "\"wall_time_s\":", "\"recovery_time\":", "\"type\":\"onset\""})
     EXPECT_NE(last.find(key), std::string::npos) << key;
 }
 
@@ -132,11 +134,13 @@ TEST(Cli, BadInputIsExitCodeTwoWithOneLine) {
     std::string args, expect;
   } cases[] = {
       {"--scenario 1 --mode foo", "--mode: unknown mode 'foo'"},
-      {"--scenario 1 --mode rac --set controller.attention.cee=1", "controller.attention.cee: unknown key"},
+      {"--scenario 1 --mode rac --set controller.attention.cee=1",
+       "controller.attention.cee: unknown key"},
       {"--scenario 1 --mode rac --set nosuch.key=1", "nosuch: unknown key"},
       {"--scenario /nonexistent/s.yaml --mode rac", "/nonexistent/s.yaml: cannot open file"},
       {"--scenario " + bad_yaml + " --mode rac", "malformed YAML"},
-      {"--scenario " + nan_yaml + " --mode rac", "scenario.theta.0.scale: expected a finite number"},
+      {"--scenario " + nan_yaml + " --mode rac",
+       "scenario.theta.0.scale: expected a finite number"},
       {"--scenario 1 --mode rac --dt 0", "--dt: must be > 0"},
       {"--scenario 1 --mode rac --dt -0.1", "--dt: must be > 0"},
       {"--scenario 1 --mode rac --dt nan", "--dt: expected a finite number"},

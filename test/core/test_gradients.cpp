@@ -70,8 +70,8 @@ TEST(Gradients, ExactSensitivityMatchesFiniteDifferenceOfPhaseCost) {
     // Within a few percent of the gradient's size, component by component.
     for (int i = 0; i < 3; ++i)
       EXPECT_NEAR(base.grad[i], fd[i], 0.05 * fd.norm())
-          << "component " << i << ", phase length " << length << " s; exact " << base.grad.transpose()
-          << " vs finite difference " << fd.transpose();
+          << "component " << i << ", phase length " << length << " s; exact "
+          << base.grad.transpose() << " vs finite difference " << fd.transpose();
     EXPECT_LT((base.grad - fd).norm(), 0.05 * fd.norm());
     // The approximate gradient (Pi_hat) is measurably further off: the test can tell them apart.
     const PhaseResult approx = fixedPhase(cfg, Mode::kPaLearn, theta_I, length);
@@ -109,7 +109,8 @@ TEST(Gradients, SensitivityPiMatchesSpec) {
   const PiMat P = st.pi(ev, x, th);
   const Eigen::Matrix2d tl = Ar + B * th.transpose();
   const Eigen::Matrix2d tr = -B * x.transpose();
-  const Eigen::Matrix2d bl = 10.0 * ev.dot(PB) * Eigen::Matrix2d::Identity() + 10.0 * x * PB.transpose();
+  const Eigen::Matrix2d bl =
+      10.0 * ev.dot(PB) * Eigen::Matrix2d::Identity() + 10.0 * x * PB.transpose();
   EXPECT_LT((P.topLeftCorner(2, 2) - tl).norm(), 1e-15);
   EXPECT_LT((P.topRightCorner(2, 2) - tr).norm(), 1e-15);
   EXPECT_LT((P.bottomLeftCorner(2, 2) - bl).norm(), 1e-15);

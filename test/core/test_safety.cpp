@@ -26,10 +26,10 @@ TEST(ActuatorLimits, RateThenMagnitude) {
   l.enabled = true;
   l.max_deflection = 0.4;
   l.max_rate = 1.0;
-  EXPECT_DOUBLE_EQ(l.apply(0.3, 0.0, 0.001), 0.001);       // rate: 1 rad/s x 1 ms
+  EXPECT_DOUBLE_EQ(l.apply(0.3, 0.0, 0.001), 0.001);  // rate: 1 rad/s x 1 ms
   EXPECT_DOUBLE_EQ(l.apply(-0.3, 0.0, 0.001), -0.001);
   EXPECT_DOUBLE_EQ(l.apply(0.3995, 0.3999, 0.001), 0.3995);
-  EXPECT_DOUBLE_EQ(l.apply(0.9, 0.3999, 0.001), 0.4);      // magnitude
+  EXPECT_DOUBLE_EQ(l.apply(0.9, 0.3999, 0.001), 0.4);  // magnitude
 }
 
 TEST(ActuatorLimits, PlantAndControllerRespectThemAndAdaptationFreezes) {
@@ -70,7 +70,8 @@ TEST(Projection, EstimatesStayInOmegaUnderNoiseAndLargeJumps) {
   const double theta_max = 4.0;  // smaller than scenario 3's true |theta| (up to 17.3)
   // Without projection the estimate leaves the ball: the check below can fail.
   double worst_free = 0.0;
-  for (const auto& th : simulate(cfg).series.theta_hat) worst_free = std::max(worst_free, th.norm());
+  for (const auto& th : simulate(cfg).series.theta_hat)
+    worst_free = std::max(worst_free, th.norm());
   ASSERT_GT(worst_free, theta_max);
   cfg.controller.projection = true;
   cfg.controller.theta_max = theta_max;
@@ -138,7 +139,7 @@ TEST(Attention, DebounceAndHysteresisSuppressChatter) {
   };
   const int paper = count(0, 0.0);
   EXPECT_GT(paper, 20);
-  EXPECT_LT(count(25, 0.0), paper / 5);  // a crossing must hold 25 ms: the 20 ms half-waves fail
+  EXPECT_LT(count(25, 0.0), paper / 5);   // a crossing must hold 25 ms: the 20 ms half-waves fail
   EXPECT_LT(count(0, 0.001), paper / 2);  // no recoveries: |e| never falls below c_e - 1 mrad
   // A real, sustained fast rise is still an onset with debounce on, a few samples later.
   VelocityEstimator vel(0.01, 0.001);
@@ -154,8 +155,9 @@ TEST(Attention, DebounceAndHysteresisSuppressChatter) {
 TEST(Config, SafetyOptionsAreValidated) {
   ParamValue t = test::packageTree();
   t.setPath("plant.actuator.max_rate", ParamValue::makeDouble(0.0));
-  t.setPath("plant.noise.std", ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-1),
-                                                     ParamValue::makeDouble(0)}));
+  t.setPath("plant.noise.std",
+            ParamValue::makeList({ParamValue::makeDouble(0), ParamValue::makeDouble(-1),
+                                  ParamValue::makeDouble(0)}));
   t.setPath("controller.attention.hysteresis", ParamValue::makeDouble(0.01));
   t.setPath("controller.attention.confirm_samples", ParamValue::makeInt(-2));
   t.setPath("controller.projection.epsilon", ParamValue::makeDouble(0.0));

@@ -1,6 +1,5 @@
 // Weights file: round trip, corrupt and mismatched files, atomic save.
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -78,7 +77,8 @@ TEST(WeightsIo, CorruptFilesAreClearErrors) {
   EXPECT_NE(errorOf(nan).find("W"), std::string::npos) << errorOf(nan);
   // A missing field.
   std::string noseed = good;
-  noseed.erase(noseed.find("seed:"), noseed.find('\n', noseed.find("seed:")) - noseed.find("seed:") + 1);
+  noseed.erase(noseed.find("seed:"),
+               noseed.find('\n', noseed.find("seed:")) - noseed.find("seed:") + 1);
   EXPECT_NE(errorOf(noseed).find("seed: missing"), std::string::npos) << errorOf(noseed);
   // An unknown field is a typo, not silently ignored.
   EXPECT_NE(errorOf(good + "extra: 1\n").find("extra: unknown key"), std::string::npos);

@@ -95,7 +95,7 @@ class ScenarioPlant {
 
 /// \brief Options of a batch run.
 struct SimOptions {
-  double dt = 0.001;          ///< sample time = integration step [s]
+  double dt = 0.001;  ///< sample time = integration step [s]
   bool record_series = false;
 };
 

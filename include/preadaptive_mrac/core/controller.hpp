@@ -31,24 +31,24 @@ std::optional<Mode> parseMode(const std::string& s);
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig {
   Mode mode = Mode::kPaLearn;
-  double sample_time = 0.001;   ///< controller period dt [s]
-  Eigen::MatrixXd Q;            ///< LQR state weight (n x n, symmetric >= 0)
-  double R = 1.0;               ///< LQR input weight (> 0)
-  double k0 = 0.0;              ///< feed-forward gain of r (B2r = k0 B)
-  double gamma = 10.0;          ///< adaptation gain
-  Eigen::VectorXd theta_hat0;   ///< initial estimate (n)
-  double tau = 0.01;            ///< velocity-estimator time constant [s]
-  double c_e = 0.005;           ///< attention error threshold [rad]
-  double c_ed = 0.02;           ///< attention rate threshold [rad/s]
-  int hidden = 3;               ///< hidden neurons
-  double init_scale = 1.0;      ///< initial weights uniform in [-init_scale, init_scale]
-  std::uint64_t seed = 1;       ///< seed of the initial weights
-  double gamma_pa = 10.0;       ///< learning rate of the preadaptation learner
-  int confirm_samples = 0;      ///< attention debounce: crossings must hold this many samples
-  double hysteresis = 0.0;      ///< attention: recovery threshold is c_e - hysteresis [rad]
+  double sample_time = 0.001;         ///< controller period dt [s]
+  Eigen::MatrixXd Q;                  ///< LQR state weight (n x n, symmetric >= 0)
+  double R = 1.0;                     ///< LQR input weight (> 0)
+  double k0 = 0.0;                    ///< feed-forward gain of r (B2r = k0 B)
+  double gamma = 10.0;                ///< adaptation gain
+  Eigen::VectorXd theta_hat0;         ///< initial estimate (n)
+  double tau = 0.01;                  ///< velocity-estimator time constant [s]
+  double c_e = 0.005;                 ///< attention error threshold [rad]
+  double c_ed = 0.02;                 ///< attention rate threshold [rad/s]
+  int hidden = 3;                     ///< hidden neurons
+  double init_scale = 1.0;            ///< initial weights uniform in [-init_scale, init_scale]
+  std::uint64_t seed = 1;             ///< seed of the initial weights
+  double gamma_pa = 10.0;             ///< learning rate of the preadaptation learner
+  int confirm_samples = 0;            ///< attention debounce: crossings must hold this many samples
+  double hysteresis = 0.0;            ///< attention: recovery threshold is c_e - hysteresis [rad]
   bool freeze_when_saturated = true;  ///< no adaptation while the elevator is at a limit
-  bool projection = false;      ///< smooth projection of theta_hat onto ||theta|| <= theta_max
-  double theta_max = 0.0;       ///< radius of Omega
+  bool projection = false;          ///< smooth projection of theta_hat onto ||theta|| <= theta_max
+  double theta_max = 0.0;           ///< radius of Omega
   double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
@@ -61,38 +61,38 @@ struct ControllerConfig {
 struct Event {
   enum class Type { kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery };
   Type type = Type::kOnset;
-  double t = 0.0;          ///< sample time [s]
-  double e = 0.0;          ///< output error alpha - alpha_r [rad]
-  double e_dot = 0.0;      ///< estimated rate of e [rad/s]
-  Vec theta_hat_before;    ///< estimate before the event
-  Vec theta_hat_after;     ///< estimate after (the reset value on onsets in pa modes)
-  bool reset = false;      ///< theta_hat was reset to theta_hat_I
-  double cost = 0.0;       ///< E = integral |e| dt over the phase (recoveries)
-  Vec grad;                ///< dE/dtheta_hat_I (recoveries in learning modes)
-  bool learned = false;    ///< the network was updated
+  double t = 0.0;             ///< sample time [s]
+  double e = 0.0;             ///< output error alpha - alpha_r [rad]
+  double e_dot = 0.0;         ///< estimated rate of e [rad/s]
+  Vec theta_hat_before;       ///< estimate before the event
+  Vec theta_hat_after;        ///< estimate after (the reset value on onsets in pa modes)
+  bool reset = false;         ///< theta_hat was reset to theta_hat_I
+  double cost = 0.0;          ///< E = integral |e| dt over the phase (recoveries)
+  Vec grad;                   ///< dE/dtheta_hat_I (recoveries in learning modes)
+  bool learned = false;       ///< the network was updated
   std::int64_t episodes = 0;  ///< learning episodes after the event
 };
 const char* eventTypeName(Event::Type t);
 
 /// \brief Input of one controller step.
 struct StepInput {
-  double t = 0.0;                     ///< sample time [s]
-  const Vec* x = nullptr;             ///< measured state [e_I, alpha, q]
-  double r = 0.0;                     ///< command [rad]
-  const Vec* theta_true = nullptr;    ///< simulation truth; needed by pa_learn_exact only
+  double t = 0.0;                   ///< sample time [s]
+  const Vec* x = nullptr;           ///< measured state [e_I, alpha, q]
+  double r = 0.0;                   ///< command [rad]
+  const Vec* theta_true = nullptr;  ///< simulation truth; needed by pa_learn_exact only
 };
 
 /// \brief Output of one controller step.
 struct StepOutput {
-  double u = 0.0;           ///< elevator command u_bl + u_ad [rad]
-  double u_baseline = 0.0;  ///< -K x
-  double u_adaptive = 0.0;  ///< -theta_hat^T x + k0 r
-  double e = 0.0;           ///< output error [rad]
-  double e_dot = 0.0;       ///< its estimated rate [rad/s]
+  double u = 0.0;              ///< elevator command u_bl + u_ad [rad]
+  double u_baseline = 0.0;     ///< -K x
+  double u_adaptive = 0.0;     ///< -theta_hat^T x + k0 r
+  double e = 0.0;              ///< output error [rad]
+  double e_dot = 0.0;          ///< its estimated rate [rad/s]
   double u_unsaturated = 0.0;  ///< u_baseline + u_adaptive before the actuator limits
-  bool saturated = false;   ///< u was limited (magnitude or rate)
-  Vec x_ref;                ///< reference-model state at this sample
-  Vec theta_hat;            ///< estimate used for u at this sample (after any reset)
+  bool saturated = false;      ///< u was limited (magnitude or rate)
+  Vec x_ref;                   ///< reference-model state at this sample
+  Vec theta_hat;               ///< estimate used for u at this sample (after any reset)
   std::optional<Event> event;  ///< at most one attention event per sample
 };
 
@@ -103,7 +103,10 @@ class VelocityEstimator {
   /// \brief Feed one sample; returns the estimate. The first sample gives 0.
   double update(double e);
   double value() const { return value_; }
-  void reset() { primed_ = false; value_ = 0.0; }
+  void reset() {
+    primed_ = false;
+    value_ = 0.0;
+  }
 
  private:
   double tau_, dt_;
@@ -140,7 +143,7 @@ class Attention {
   int confirm_;
   double hyst_;
   bool primed_ = false, active_ = false;
-  double s_prev_ = 0.0, d_prev_ = 0.0;  // |e| - c_e and |e| - (c_e - h) at the last sample
+  double s_prev_ = 0.0, d_prev_ = 0.0;   // |e| - c_e and |e| - (c_e - h) at the last sample
   int up_count_ = -1, down_count_ = -1;  // samples held since a crossing; -1 when none pending
 };
 
@@ -217,8 +220,8 @@ class Controller {
   int n_, out_;
   double dt_;
   Vec K_, B_, PB_, b_ref_;
-  Mat Phi_r_;   // RK4 transition of the reference model over dt
-  Vec Gam_r_;   // RK4 input vector of the reference model over dt (times r)
+  Mat Phi_r_;  // RK4 transition of the reference model over dt
+  Vec Gam_r_;  // RK4 input vector of the reference model over dt (times r)
   /// \brief Smooth projection (Pomet-Praly) of the update direction y at theta.
   void project(const Vec& theta, Vec* y) const;
   /// \brief Radial projection of a reset value onto Omega.

@@ -11,11 +11,11 @@ namespace preadaptive_mrac {
 
 /// \brief Everything that defines a network: what the weights file holds.
 struct NetworkState {
-  NetV V;  ///< input weights (2 x h)
-  NetW W;  ///< output weights (h x n)
-  std::uint64_t seed = 0;        ///< seed of the initial weights
-  double init_scale = 0.0;       ///< initial weights drawn uniform in [-scale, scale]
-  std::int64_t episodes = 0;     ///< learning episodes applied so far
+  NetV V;                     ///< input weights (2 x h)
+  NetW W;                     ///< output weights (h x n)
+  std::uint64_t seed = 0;     ///< seed of the initial weights
+  double init_scale = 0.0;    ///< initial weights drawn uniform in [-scale, scale]
+  std::int64_t episodes = 0;  ///< learning episodes applied so far
   int hidden() const { return static_cast<int>(V.cols()); }
   int outputs() const { return static_cast<int>(W.cols()); }
 };

@@ -117,7 +117,8 @@ class ParamReader {
   bool getBool(const std::string& dotted, bool def);
   std::string getString(const std::string& dotted, const std::string& def);
 
-  /// \brief Size of a required list of maps (segments); -1 with a problem when absent or not a list.
+  /// \brief Size of a required list of maps (segments); -1 with a problem when absent or not a
+  /// list.
   int getListSize(const std::string& dotted);
 
   /// \brief Mark a whole subtree as used (documentation-only keys).

@@ -48,13 +48,13 @@ class GaussianSource {
 };
 
 struct PlantConfig {
-  Eigen::MatrixXd A;    ///< state matrix (n x n)
-  Eigen::VectorXd B;    ///< input vector (n)
-  Eigen::VectorXd B1r;  ///< reference input vector (n)
-  Eigen::VectorXd x0;   ///< initial state (n) [e_I rad s, alpha rad, q rad/s]
-  int output_index = 1;  ///< y = x[output_index] (alpha)
-  ActuatorLimits actuator;   ///< applied by the plant, known to the controller
-  MeasurementNoise noise;    ///< added to what the plant publishes as measured
+  Eigen::MatrixXd A;        ///< state matrix (n x n)
+  Eigen::VectorXd B;        ///< input vector (n)
+  Eigen::VectorXd B1r;      ///< reference input vector (n)
+  Eigen::VectorXd x0;       ///< initial state (n) [e_I rad s, alpha rad, q rad/s]
+  int output_index = 1;     ///< y = x[output_index] (alpha)
+  ActuatorLimits actuator;  ///< applied by the plant, known to the controller
+  MeasurementNoise noise;   ///< added to what the plant publishes as measured
 
   int n() const { return static_cast<int>(A.rows()); }
   /// \brief Read the `plant` section; problems go to the reader.
@@ -68,7 +68,8 @@ class Plant {
  public:
   explicit Plant(const PlantConfig& cfg);
 
-  /// \brief Advance x by dt [s] with classic RK4; theta, u [rad] and r [rad] constant over the step.
+  /// \brief Advance x by dt [s] with classic RK4; theta, u [rad] and r [rad] constant over the
+  /// step.
   void step(double dt, const Vec& theta, double u, double r);
   /// \brief Time derivative at (x, theta, u, r).
   void derivative(const Vec& x, const Vec& theta, double u, double r, Vec* xdot) const;

@@ -3,10 +3,9 @@
 /// \brief Start-up solvers: LQR gain from the continuous algebraic Riccati equation and P
 /// from the Lyapunov equation. Each refuses bad input with a SolverError naming the cause.
 
+#include <Eigen/Dense>
 #include <stdexcept>
 #include <string>
-
-#include <Eigen/Dense>
 
 namespace preadaptive_mrac {
 
@@ -25,7 +24,7 @@ class SolverError : public std::runtime_error {
 
 /// \brief Solution of the CARE A^T X + X A - X B R^-1 B^T X + Q = 0.
 struct LqrSolution {
-  Eigen::MatrixXd X;  ///< stabilising solution (n x n, symmetric, >= 0)
+  Eigen::MatrixXd X;     ///< stabilising solution (n x n, symmetric, >= 0)
   Eigen::RowVectorXd K;  ///< gain K = R^-1 B^T X (1 x n), u = -K x
   double relative_residual = 0.0;
 };

@@ -19,7 +19,8 @@ constexpr int kNetInputs = 2;
 using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStates, 1>;
 using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxStates, kMaxStates>;
 /// \brief Sensitivity S = [d e_v / d theta_hat_I ; d theta_hat / d theta_hat_I] (2n x n).
-using SensMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxStates, kMaxStates>;
+using SensMat =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxStates, kMaxStates>;
 /// \brief Jacobian Pi of the sensitivity ODE (2n x 2n).
 using PiMat =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxStates, 2 * kMaxStates>;

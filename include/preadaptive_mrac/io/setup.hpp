@@ -42,8 +42,7 @@ struct Sections {
 /// unknown keys inside them, and check the design (K from the CARE, P from the Lyapunov
 /// equation) so that (A, B) not stabilisable etc. come back as problems naming the keys.
 /// Throws ConfigError with every problem.
-RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style = {},
-                        Sections sections = {});
+RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style = {}, Sections sections = {});
 
 /// \brief Identification of a run for its JSON summary.
 struct RunInfo {
