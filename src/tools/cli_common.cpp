@@ -11,6 +11,31 @@
 namespace preadaptive_mrac {
 namespace cli {
 
+std::string nextArg(int argc, char** argv, int* i) {
+  const std::string flag = argv[*i];
+  if (*i + 1 >= argc) throw UsageError(flag + ": missing value");
+  return argv[++*i];
+}
+
+bool takeRunFlag(int argc, char** argv, int* i, RunRequest* req, bool* have_scenario) {
+  const std::string a = argv[*i];
+  if (a == "--scenario") {
+    req->scenario = nextArg(argc, argv, i);
+    *have_scenario = true;
+  } else if (a == "--dt") {
+    req->dt = parseDouble("--dt", nextArg(argc, argv, i));
+  } else if (a == "--set") {
+    req->sets.push_back(nextArg(argc, argv, i));
+  } else if (a == "--plant") {
+    req->plant_path = nextArg(argc, argv, i);
+  } else if (a == "--controller") {
+    req->controller_path = nextArg(argc, argv, i);
+  } else {
+    return false;
+  }
+  return true;
+}
+
 double parseDouble(const std::string& flag, const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);

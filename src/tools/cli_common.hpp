@@ -46,6 +46,12 @@ PreparedRun prepare(const RunRequest& req);
 SimResult execute(const PreparedRun& run, bool record_series,
                   std::unique_ptr<Controller>* controller);
 
+/// \brief The value after flag argv[*i]; advances *i. Throws UsageError when it is missing.
+std::string nextArg(int argc, char** argv, int* i);
+/// \brief Take one of the flags both tools share (--scenario, --dt, --set, --plant,
+/// --controller) into `req`; false when argv[*i] is none of them.
+bool takeRunFlag(int argc, char** argv, int* i, RunRequest* req, bool* have_scenario);
+
 double parseDouble(const std::string& flag, const std::string& text);
 std::uint64_t parseSeed(const std::string& flag, const std::string& text);
 /// \brief Split on commas that are not inside brackets ("0.1,[1,2,3]" -> 2 items).

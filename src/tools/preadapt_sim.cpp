@@ -21,11 +21,6 @@ const char* kUsage =
     "Runs plant + controller in closed loop. Keys for --set are dotted YAML paths, e.g.\n"
     "controller.attention.c_e=0.01 or scenario.reference.0.r=0.05. Exit code 2 on bad input.\n";
 
-std::string need(int argc, char** argv, int* i) {
-  const std::string flag = argv[*i];
-  if (*i + 1 >= argc) throw cli::UsageError(flag + ": missing value");
-  return argv[++*i];
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -36,32 +31,22 @@ int main(int argc, char** argv) {
     bool have_scenario = false;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
+      if (cli::takeRunFlag(argc, argv, &i, &req, &have_scenario)) continue;
       if (a == "--help" || a == "-h") {
         std::cout << kUsage;
         return 0;
-      } else if (a == "--scenario") {
-        req.scenario = need(argc, argv, &i);
-        have_scenario = true;
       } else if (a == "--mode") {
-        req.mode = need(argc, argv, &i);
+        req.mode = cli::nextArg(argc, argv, &i);
       } else if (a == "--seed") {
-        req.seed = cli::parseSeed("--seed", need(argc, argv, &i));
-      } else if (a == "--dt") {
-        req.dt = cli::parseDouble("--dt", need(argc, argv, &i));
-      } else if (a == "--set") {
-        req.sets.push_back(need(argc, argv, &i));
+        req.seed = cli::parseSeed("--seed", cli::nextArg(argc, argv, &i));
       } else if (a == "--csv") {
-        csv = need(argc, argv, &i);
+        csv = cli::nextArg(argc, argv, &i);
       } else if (a == "--json") {
         json = true;
-      } else if (a == "--plant") {
-        req.plant_path = need(argc, argv, &i);
-      } else if (a == "--controller") {
-        req.controller_path = need(argc, argv, &i);
       } else if (a == "--weights-in") {
-        req.weights_in = need(argc, argv, &i);
+        req.weights_in = cli::nextArg(argc, argv, &i);
       } else if (a == "--weights-out") {
-        weights_out = need(argc, argv, &i);
+        weights_out = cli::nextArg(argc, argv, &i);
       } else {
         throw cli::UsageError("unknown argument '" + a + "' (see --help)");
       }

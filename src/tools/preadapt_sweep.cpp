@@ -25,12 +25,6 @@ const char* kUsage =
     "Example: preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 \\\n"
     "           --grid controller.attention.c_e=0.003,0.005,0.01\n";
 
-std::string need(int argc, char** argv, int* i) {
-  const std::string flag = argv[*i];
-  if (*i + 1 >= argc) throw cli::UsageError(flag + ": missing value");
-  return argv[++*i];
-}
-
 std::vector<std::uint64_t> parseSeeds(const std::string& text) {
   std::vector<std::uint64_t> out;
   for (const auto& part : cli::splitTopLevel(text)) {
@@ -73,39 +67,29 @@ int main(int argc, char** argv) {
     bool have_scenario = false;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
+      if (cli::takeRunFlag(argc, argv, &i, &base, &have_scenario)) continue;
       if (a == "--help" || a == "-h") {
         std::cout << kUsage;
         return 0;
-      } else if (a == "--scenario") {
-        base.scenario = need(argc, argv, &i);
-        have_scenario = true;
       } else if (a == "--modes" || a == "--mode") {
-        for (const auto& m : cli::splitTopLevel(need(argc, argv, &i))) {
+        for (const auto& m : cli::splitTopLevel(cli::nextArg(argc, argv, &i))) {
           if (!parseMode(m))
             throw cli::UsageError("--modes: unknown mode '" + m +
                                   "' (expected rac, pa, pa_learn or pa_learn_exact)");
           modes.push_back(m);
         }
       } else if (a == "--seeds") {
-        seeds = parseSeeds(need(argc, argv, &i));
+        seeds = parseSeeds(cli::nextArg(argc, argv, &i));
       } else if (a == "--grid") {
-        const std::string g = need(argc, argv, &i);
+        const std::string g = cli::nextArg(argc, argv, &i);
         const auto eq = g.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == g.size())
           throw cli::UsageError("--grid '" + g + "': expected key=v1,v2,...");
         axes.push_back({g.substr(0, eq), cli::splitTopLevel(g.substr(eq + 1))});
-      } else if (a == "--set") {
-        base.sets.push_back(need(argc, argv, &i));
-      } else if (a == "--dt") {
-        base.dt = cli::parseDouble("--dt", need(argc, argv, &i));
       } else if (a == "--jobs") {
-        const auto j = cli::parseSeed("--jobs", need(argc, argv, &i));
+        const auto j = cli::parseSeed("--jobs", cli::nextArg(argc, argv, &i));
         if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
         jobs = static_cast<unsigned>(j);
-      } else if (a == "--plant") {
-        base.plant_path = need(argc, argv, &i);
-      } else if (a == "--controller") {
-        base.controller_path = need(argc, argv, &i);
       } else {
         throw cli::UsageError("unknown argument '" + a + "' (see --help)");
       }
