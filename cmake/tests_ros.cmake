@@ -33,4 +33,21 @@ if(CATKIN_ENABLE_TESTING)
   # Realtime: the command topic at 1 kHz (hztest on wall clock).
   add_rostest(test/ros/realtime_hz.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
+
+  # Issue 5, reliability (wall clock). The controller alone, fed by the test: NaN states are
+  # answered safely and do not refresh the staleness timer; silence gives stale safe commands
+  # (-K x_last or 0) at the sample rate; /diagnostics reports rejections and staleness.
+  foreach(policy baseline_hold zero)
+    add_rostest(test/ros/stale_input.test ARGS policy:=${policy}
+      DEPENDENCIES mrac_controller_node)
+  endforeach()
+  # The plant alone, commanded by the test: NaN/Inf commands rejected and counted, trim after
+  # ~cmd_timeout without a valid command, the measured (noisy) state and applied elevator.
+  add_rostest(test/ros/plant_command.test DEPENDENCIES plant_sim_node)
+  # The recorder killed with SIGKILL mid-recording (split series): scripts/reindex_bags
+  # recovers the .bag.active it leaves; the bags hold every state up to near the kill.
+  add_rostest(test/ros/recorder_crash.test DEPENDENCIES bag_recorder_node)
+  # Controller and plant SIGKILLed and restarted mid-run (realtime): trim, stale safe commands,
+  # recovery, the controller resumes from its saved weights, the run completes.
+  add_rostest(test/ros/faults.test DEPENDENCIES plant_sim_node mrac_controller_node)
 endif()

@@ -25,13 +25,17 @@ std::string dateSuffix() {
 }  // namespace
 
 BagRecorder::BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params)
-    : nh_(nh), progress_every_(params.progress_every) {
+    : nh_(nh), params_(params), progress_every_(params.progress_every) {
   progress_pub_ = ros::NodeHandle("~").advertise<RecorderProgress>("progress", 100);
-  path_ =
+  base_ =
       params.output.empty() ? params.output_prefix + "_" + dateSuffix() + ".bag" : params.output;
-  const std::filesystem::path dir = std::filesystem::path(path_).parent_path();
+  const std::filesystem::path dir = std::filesystem::path(base_).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
-  bag_.open(path_, rosbag::bagmode::Write);
+  single_ = base_;
+  // Split series are named like rosbag record --split: <base>_0.bag, <base>_1.bag, ...
+  if (base_.size() > 4 && base_.compare(base_.size() - 4, 4, ".bag") == 0)
+    base_.resize(base_.size() - 4);
+  openBag();
   for (const auto& t : params.topics) {
     const std::string resolved = nh_.resolveName(t);
     counts_[resolved] = 0;
@@ -45,6 +49,31 @@ BagRecorder::BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& par
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   }
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
+}
+
+void BagRecorder::openBag() {
+  const bool split = params_.split_size_mb > 0.0 || params_.split_duration > 0.0;
+  path_ = split ? base_ + "_" + std::to_string(index_) + ".bag" : single_;
+  bag_.setChunkThreshold(static_cast<uint32_t>(params_.chunk_size_kb) * 1024u);
+  bag_.open(path_ + ".active", rosbag::bagmode::Write);
+  opened_wall_ = ros::WallTime::now().toSec();
+}
+
+void BagRecorder::closeBag() {
+  bag_.close();
+  std::error_code ec;
+  std::filesystem::rename(path_ + ".active", path_, ec);
+  if (ec)
+    ROS_ERROR("could not rename %s.active to %s: %s", path_.c_str(), path_.c_str(),
+              ec.message().c_str());
+}
+
+bool BagRecorder::splitDue() const {
+  if (params_.split_size_mb > 0.0 &&
+      static_cast<double>(bag_.getSize()) >= params_.split_size_mb * 1024.0 * 1024.0)
+    return true;
+  return params_.split_duration > 0.0 &&
+         ros::WallTime::now().toSec() - opened_wall_ >= params_.split_duration;
 }
 
 bool BagRecorder::hasHeader(const topic_tools::ShapeShifter& msg) {
@@ -88,6 +117,12 @@ void BagRecorder::callback(const std::string& topic,
     bag_.write(topic, t, ev.getConstMessage(), ev.getConnectionHeaderPtr());
     ++counts_[topic];
     reportProgress(topic, msg);
+    if (splitDue()) {
+      closeBag();
+      ROS_INFO("closed %s (split)", path_.c_str());
+      ++index_;
+      openBag();
+    }
   } catch (const std::exception& e) {
     ROS_ERROR_THROTTLE(1.0, "bag write failed on %s: %s", topic.c_str(), e.what());
   }
@@ -111,10 +146,13 @@ int BagRecorder::run() {
   // One thread: each callback writes its message (the bag buffers chunks in memory).
   ros::spin();
   subs_.clear();
-  bag_.close();
+  closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
-  printAfterShutdown("closed " + path_ + "; messages:" + summary);
+  printAfterShutdown(
+      "closed " + path_ +
+      (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +
+      "; messages:" + summary);
   return 0;
 }
 
@@ -139,6 +177,18 @@ int runBagRecorderNode() {
   pnh.param<std::string>("output", p.output, "");
   pnh.param<std::string>("output_prefix", p.output_prefix, "");
   pnh.param<int>("progress_every", p.progress_every, 100);
+  pnh.param<double>("split_size_mb", p.split_size_mb, 0.0);
+  pnh.param<double>("split_duration", p.split_duration, 0.0);
+  pnh.param<int>("chunk_size_kb", p.chunk_size_kb, 768);
+  if (!(p.split_size_mb >= 0.0 && p.split_size_mb <= 1e6))
+    problems.push_back(pnh.resolveName("split_size_mb") + ": must be in [0, 1e6] MB, got " +
+                       std::to_string(p.split_size_mb));
+  if (!(p.split_duration >= 0.0 && p.split_duration <= 1e7))
+    problems.push_back(pnh.resolveName("split_duration") + ": must be in [0, 1e7] s, got " +
+                       std::to_string(p.split_duration));
+  if (p.chunk_size_kb < 1 || p.chunk_size_kb > 1024 * 1024)
+    problems.push_back(pnh.resolveName("chunk_size_kb") + ": must be in [1, 1048576], got " +
+                       std::to_string(p.chunk_size_kb));
   if (p.progress_every < 1)
     problems.push_back(pnh.resolveName("progress_every") + ": must be >= 1, got " +
                        std::to_string(p.progress_every));

@@ -55,9 +55,9 @@ MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
     : nh_(nh),
       params_(params),
       ctl_(params.run.plant, params.run.controller),
-      // Staleness is not used (this node answers states as they come); the guards reject
-      // malformed samples before they reach the controller.
-      state_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300),
+      // The state guard rejects malformed samples before they reach the controller and, fed
+      // ROS time, tells when the last valid one is older than ~stale_timeout.
+      state_guard_(static_cast<std::size_t>(params.run.plant.n()), params.stale_timeout),
       truth_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300) {
   const int n = params_.run.plant.n();
   if (!params_.weights_in.empty()) {
@@ -76,6 +76,8 @@ MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
   cmd_pub_ = nh_.advertise<ElevatorCommand>("controller/elevator_cmd", q);
   attention_pub_ = nh_.advertise<AttentionEvent>("controller/attention", q);
   status_pub_ = nh_.advertise<AdaptationStatus>("controller/status", q);
+  updater_.setHardwareID("mrac_controller");
+  updater_.add("controller", this, &MracControllerNode::diagnose);
 }
 
 void MracControllerNode::fatal(const std::string& what) {
@@ -129,6 +131,8 @@ int MracControllerNode::run() {
         "(only a simulator has it); each state waits for the truth of the same step",
         truth_sub_.getTopic().c_str());
   }
+  stale_timer_ = nh_.createTimer(ros::Duration(params_.run.controller.sample_time),
+                                 &MracControllerNode::staleTimerCallback, this);
   ros::spin();
   if (!failed_) saveWeights("shutdown");
   printAfterShutdown(std::to_string(steps_) + " steps, " + std::to_string(gaps_) +
@@ -163,6 +167,7 @@ void MracControllerNode::saveWeights(const char* why) {
 
 void MracControllerNode::stateCallback(const PlantState::ConstPtr& msg) {
   if (failed_) return;
+  ++states_received_;
   if (!ctl_.needsTruth()) {
     process(*msg, nullptr);
     return;
@@ -233,21 +238,23 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
     dt_checked_ = true;
   }
   if (have_last_) {
-    if (msg.step == 0 && last_step_ > 0) {
-      ROS_WARN("the plant restarted (step 0 after step %llu): controller reset",
+    if (msg.step < last_step_) {
+      // One publisher's states arrive in order, so a step going back means a new plant run:
+      // a restarted plant (whose first states may have gone out before this node was
+      // connected again, e.g. when a recorder already satisfied its subscriber count).
+      ROS_WARN("the plant restarted (step %llu after step %llu): controller reset",
+               static_cast<unsigned long long>(msg.step),
                static_cast<unsigned long long>(last_step_));
       ctl_.reset();
+      ++plant_restarts_;
+      safe_step_ = 0;
+      last_valid_step_ = 0;
     } else if (msg.step == last_step_) {
       // The plant repeats a state when it got no answer: our command was lost. Answer again
       // (the same command; the controller does not step twice).
       ROS_WARN("state for step %llu repeated: publishing its command again",
                static_cast<unsigned long long>(msg.step));
       cmd_pub_.publish(cmd_msg_);
-      return;
-    } else if (msg.step < last_step_) {
-      ROS_WARN_THROTTLE(1.0, "state for step %llu after step %llu: ignored",
-                        static_cast<unsigned long long>(msg.step),
-                        static_cast<unsigned long long>(last_step_));
       return;
     } else if (msg.step != last_step_ + 1) {
       gaps_ += 1;
@@ -259,11 +266,25 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   have_last_ = true;
   last_step_ = msg.step;
   std::string why;
-  if (!state_guard_.accept(msg.t, msg.x.data(), msg.x.size(), &why, "x")) {
+  // The time a valid state refreshes the staleness timer with. Under /use_sim_time the
+  // state's own stamp (its sample time): this node's /clock arrives on another connection
+  // and can lag the states (measured: 64 ms in a loaded lockstep pa_learn_exact run, which
+  // made the timer fire between two states). On the wall clock, the time of receipt.
+  const double now = ros::Time::now().toSec();
+  const double refresh = ros::Time::isSimTime() ? msg.header.stamp.toSec() : now;
+  if (!state_guard_.accept(refresh, msg.x.data(), msg.x.size(), &why, "x")) {
     answerRejected(msg, why);
     return;
   }
   ++steps_;
+  last_valid_step_ = msg.step;
+  last_valid_t_ = msg.t;
+  if (stale_) {
+    stale_ = false;
+    ROS_INFO("valid state again (step %llu) after %.3f s stale: adapting again",
+             static_cast<unsigned long long>(msg.step), now - stale_since_);
+    updater_.force_update();
+  }
 
   for (int i = 0; i < n; ++i) x_[i] = msg.x[static_cast<size_t>(i)];
   x_last_valid_ = x_;
@@ -288,9 +309,14 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   cmd_msg_.u_baseline = out.u_baseline;
   cmd_msg_.u_adaptive = out.u_adaptive;
   cmd_msg_.safe = false;
+  cmd_msg_.stale = false;
   cmd_pub_.publish(cmd_msg_);
 
+  if (out.saturated) ++saturated_;
   if (out.event) {
+    if (out.event->type == Event::Type::kOnset) ++onsets_;
+    if (out.event->type == Event::Type::kRecovered) ++recoveries_;
+    if (out.event->reset) ++resets_;
     event_msg_.header.stamp = msg.header.stamp;
     toMsg(*out.event, msg.step, &event_msg_);
     attention_pub_.publish(event_msg_);
@@ -338,7 +364,84 @@ void MracControllerNode::answerRejected(const PlantState& msg, const std::string
   cmd_msg_.u_baseline = u;
   cmd_msg_.u_adaptive = 0.0;
   cmd_msg_.safe = true;
+  cmd_msg_.stale = false;
   cmd_pub_.publish(cmd_msg_);
+  ++rejected_answers_;
+}
+
+void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
+  if (failed_) return;
+  const double now = ros::Time::now().toSec();
+  // Before the first valid state there is nothing to hold (and no plant to command).
+  if (state_guard_.haveValid() && state_guard_.stale(now)) {
+    if (!stale_) {
+      stale_ = true;
+      ++stale_episodes_;
+      stale_since_ = now;
+      safe_step_ = std::max(safe_step_, last_step_);
+      ROS_WARN(
+          "no valid state on %s for %.3f s (~stale_timeout %.3f s; %llu rejected so far): "
+          "publishing the %s command of step %llu, adaptation frozen",
+          state_sub_.getTopic().c_str(), state_guard_.age(now), params_.stale_timeout,
+          static_cast<unsigned long long>(state_guard_.rejected()),
+          params_.stale_policy == StalePolicy::kZero ? "zero" : "baseline",
+          static_cast<unsigned long long>(last_valid_step_));
+      updater_.force_update();
+    }
+    // No controller step: theta_hat, attention and learning stay as they are.
+    const double u = ctl_.safeCommand(x_last_valid_, params_.stale_policy);
+    safe_step_ = std::max(safe_step_ + 1, last_step_ + 1);
+    ElevatorCommand c;
+    c.header.stamp = ros::Time::now();
+    c.step = safe_step_;
+    c.t = last_valid_t_ +
+          static_cast<double>(safe_step_ - last_valid_step_) * params_.run.controller.sample_time;
+    c.u = u;
+    c.u_baseline = u;
+    c.u_adaptive = 0.0;
+    c.safe = true;
+    c.stale = true;
+    cmd_pub_.publish(c);
+    ++stale_commands_;
+  }
+  updater_.update();
+}
+
+void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  const double now = ros::Time::now().toSec();
+  const double span = diag_time_ > 0.0 ? now - diag_time_ : 0.0;
+  const double rate =
+      span > 0.0 ? static_cast<double>(states_received_ - diag_states_) / span : 0.0;
+  diag_time_ = now;
+  diag_states_ = states_received_;
+  if (stale_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "stale input: publishing safe commands, adaptation frozen");
+  } else if (state_guard_.rejected() > 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "malformed states rejected");
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
+  }
+  stat.add("mode", modeName(ctl_.mode()));
+  stat.add("stale", stale_);
+  stat.add("stale time [s]", state_guard_.haveValid() ? state_guard_.age(now) : -1.0);
+  stat.add("stale timeout [s]", params_.stale_timeout);
+  stat.add("stale episodes", stale_episodes_);
+  stat.add("stale commands", stale_commands_);
+  stat.add("state rate [Hz]", rate);
+  stat.add("states received", states_received_);
+  stat.add("states accepted", state_guard_.accepted());
+  stat.add("states rejected", state_guard_.rejected());
+  stat.add("last rejection", state_guard_.lastRejection());
+  stat.add("truths rejected", truth_guard_.rejected());
+  stat.add("gaps", gaps_);
+  stat.add("controller steps", steps_);
+  stat.add("saturated steps", saturated_);
+  stat.add("onsets", onsets_);
+  stat.add("recoveries", recoveries_);
+  stat.add("resets", resets_);
+  stat.add("episodes", ctl_.network().state().episodes);
+  stat.add("plant restarts", plant_restarts_);
 }
 
 int runMracControllerNode() {

@@ -105,6 +105,10 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   p.queue_size = readCount(r, "queue_size", p.queue_size, 0, 100000000);
   p.recorder_progress_topic = r.getString("recorder_progress_topic", "");
   p.max_recorder_lag = readCount(r, "max_recorder_lag", p.max_recorder_lag, 1, 100000000);
+  p.cmd_timeout = r.getDouble("cmd_timeout", p.cmd_timeout);
+  requireRange(r, "cmd_timeout", p.cmd_timeout, 0.0, 1e6, true);
+  p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
+  requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
   rejectUnknownTopLevel(tree, r,
                         {"plant",
                          "controller",
@@ -127,7 +131,9 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                          "latency_report",
                          "queue_size",
                          "recorder_progress_topic",
-                         "max_recorder_lag"});
+                         "max_recorder_lag",
+                         "cmd_timeout",
+                         "diagnostic_period"});
 
   std::vector<std::string> problems = r.problems();
   try {
@@ -162,10 +168,16 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
       policy_value->type() == ParamValue::Type::kString)
     r.fail("stale_policy", "expected baseline_hold or zero, got '" + policy + "'");
   p.queue_size = readCount(r, "queue_size", p.queue_size, 0, 100000000);
-  rejectUnknownTopLevel(tree, r,
-                        {"plant", "controller", "scenario", "weights_in", "weights_out",
-                         "save_every_episode", "min_command_subscribers", "min_status_subscribers",
-                         "start_timeout", "truth_buffer", "queue_size"});
+  p.stale_timeout = r.getDouble("stale_timeout", p.stale_timeout);
+  requireRange(r, "stale_timeout", p.stale_timeout, 0.0, 1e6, true);
+  p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
+  requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
+  // (~stale_policy was read above but missing here, so setting it was refused as unknown.)
+  rejectUnknownTopLevel(
+      tree, r,
+      {"plant", "controller", "scenario", "weights_in", "weights_out", "save_every_episode",
+       "min_command_subscribers", "min_status_subscribers", "start_timeout", "truth_buffer",
+       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period"});
 
   std::vector<std::string> problems = r.problems();
   bool run_ok = false;

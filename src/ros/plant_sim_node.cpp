@@ -38,6 +38,8 @@ geometry_msgs::TransformStamped pitchTransform(const ros::Time& stamp, const std
 
 PlantSimNode::PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& params)
     : nh_(nh), params_(params), sim_(params.run.plant, params.run.scenario, params.dt) {
+  updater_.setHardwareID("plant_sim");
+  updater_.add("plant", this, &PlantSimNode::diagnose);
   // ~queue_size bounds the backlog kept for each slow subscriber (a recorder under load falls
   // seconds behind a lockstep run); 0 keeps everything, so no sample is lost.
   const auto q = static_cast<uint32_t>(params_.queue_size);
@@ -78,7 +80,21 @@ ros::Time PlantSimNode::simStamp(double t) {
 void PlantSimNode::commandCallback(const ElevatorCommand::ConstPtr& msg) {
   const double arrival = wallNow();
   std::lock_guard<std::mutex> lock(mutex_);
+  if (!std::isfinite(msg->u)) {
+    // Never applied, and it does not count as a fresh command (realtime trim still runs).
+    ++commands_rejected_;
+    last_rejection_ = "step " + std::to_string(msg->step) + ": u is " + std::to_string(msg->u);
+    ROS_ERROR_THROTTLE(1.0, "command for step %llu rejected: u is not finite (%lld so far)",
+                       static_cast<unsigned long long>(msg->step),
+                       static_cast<long long>(commands_rejected_));
+    return;
+  }
   if (params_.clock == ClockMode::kLockstep) {
+    if (msg->stale) {
+      // The controller's staleness timer: not an answer to a state; lockstep keeps waiting.
+      ++stale_cmds_ignored_;
+      return;
+    }
     const auto expected = static_cast<std::uint64_t>(sim_.step());
     if (sim_.done() || msg->step != expected) {
       ++commands_ignored_;
@@ -91,7 +107,9 @@ void PlantSimNode::commandCallback(const ElevatorCommand::ConstPtr& msg) {
   } else {
     // The command's stamp is the answered state's stamp, which realtime sets to the wall
     // time of publication.
-    if (have_cmd_ && msg->step <= cmd_step_) {
+    // An answer to a state always supersedes a command of the controller's staleness timer
+    // (whose step numbers run on by themselves and may be ahead).
+    if (have_cmd_ && msg->step <= cmd_step_ && !(cmd_stale_ && !msg->stale)) {
       ++commands_ignored_;
       return;
     }
@@ -101,6 +119,8 @@ void PlantSimNode::commandCallback(const ElevatorCommand::ConstPtr& msg) {
   have_cmd_ = true;
   cmd_step_ = msg->step;
   cmd_u_ = msg->u;
+  cmd_stale_ = msg->stale;
+  last_cmd_wall_ = arrival;
 }
 
 void PlantSimNode::progressCallback(const RecorderProgress::ConstPtr& msg) {
@@ -167,7 +187,8 @@ bool PlantSimNode::waitForSubscribers() {
 
 void PlantSimNode::publishSample(const ros::Time& stamp) {
   const auto k = static_cast<std::uint64_t>(sim_.step());
-  const Vec& x = sim_.state();
+  // What a sensor reports (state + the configured noise); the true state stays in the core.
+  const Vec& x = sim_.measured();
   const Vec& theta = sim_.theta();
   const int out = sim_.plant().outputIndex();
 
@@ -202,7 +223,9 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
 void PlantSimNode::advance(double u) {
   const double q_before = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   sim_.advance(u);
-  applied_u_ = u;
+  // After the actuator limits of plant.actuator (u itself when they are off).
+  applied_u_ = sim_.lastApplied();
+  if (applied_u_ != u) ++saturated_steps_;
   const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.
   theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
@@ -283,6 +306,7 @@ int PlantSimNode::runLockstep() {
     }
     if (!answered) break;  // shutdown requested
     advance(u);
+    updater_.update();
   }
   // The bag must hold the last state before this node (and so the run) ends.
   if (sim_.done() && !waitForRecorder(static_cast<std::uint64_t>(sim_.totalSteps() - 1), 0)) {
@@ -312,9 +336,24 @@ int PlantSimNode::runRealtime() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!have_cmd_ || cmd_step_ != static_cast<std::uint64_t>(sim_.step())) ++stale_steps_;
-      u = have_cmd_ ? cmd_u_ : 0.0;
+      // Zero-order hold on the latest valid command while it is fresh; without one (none
+      // yet, the controller gone, or only rejected ones) hold trim rather than an old u.
+      const bool fresh = have_cmd_ && wallNow() - last_cmd_wall_ <= params_.cmd_timeout;
+      u = fresh ? cmd_u_ : 0.0;
+      if (!fresh) {
+        ++trim_steps_;
+        if (!in_trim_ && have_cmd_) {
+          ++trim_episodes_;
+          ROS_WARN("no valid command for %.3f s (~cmd_timeout %.3f s): holding trim (u = 0)",
+                   wallNow() - last_cmd_wall_, params_.cmd_timeout);
+        }
+      } else if (in_trim_) {
+        ROS_INFO("commands are back after %lld trim step(s)", static_cast<long long>(trim_steps_));
+      }
+      in_trim_ = !fresh;
     }
     advance(u);
+    updater_.update();
     if (sim_.done()) break;
     const ros::WallTime now = ros::WallTime::now();
     publishSample(ros::Time(now.sec, now.nsec));
@@ -350,6 +389,45 @@ void PlantSimNode::finish(bool completed) {
     const double end = wallNow() + params_.shutdown_grace;
     while (ros::ok() && wallNow() < end) queue->callAvailable(ros::WallDuration(0.01));
   }
+}
+
+void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double now = wallNow();
+  const double span = diag_wall_ > 0.0 ? now - diag_wall_ : 0.0;
+  const double step_rate = span > 0.0 ? static_cast<double>(sim_.step() - diag_steps_) / span : 0.0;
+  const double cmd_rate =
+      span > 0.0 ? static_cast<double>(commands_received_ - diag_cmds_) / span : 0.0;
+  diag_wall_ = now;
+  diag_steps_ = sim_.step();
+  diag_cmds_ = commands_received_;
+  const double cmd_age = have_cmd_ ? now - last_cmd_wall_ : -1.0;
+  if (params_.clock == ClockMode::kRealtime && in_trim_ && have_cmd_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "no valid command within ~cmd_timeout: holding trim");
+  } else if (commands_rejected_ > 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "non-finite commands rejected");
+  } else {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+  }
+  stat.add("clock", clockModeName(params_.clock));
+  stat.add("step", sim_.step());
+  stat.add("total steps", sim_.totalSteps());
+  stat.add("state rate [Hz, wall]", step_rate);
+  stat.add("command rate [Hz, wall]", cmd_rate);
+  stat.add("commands received", commands_received_);
+  stat.add("commands ignored (wrong step)", commands_ignored_);
+  stat.add("commands rejected (non-finite)", commands_rejected_);
+  stat.add("last rejection", last_rejection_);
+  stat.add("stale commands ignored (lockstep)", stale_cmds_ignored_);
+  stat.add("command age [s, wall]", cmd_age);
+  stat.add("holding trim", params_.clock == ClockMode::kRealtime && in_trim_);
+  stat.add("trim steps", trim_steps_);
+  stat.add("trim episodes", trim_episodes_);
+  stat.add("saturated steps", saturated_steps_);
+  stat.add("stale steps", stale_steps_);
+  stat.add("late ticks", late_ticks_);
+  stat.add("resent states", resent_);
 }
 
 RunReport PlantSimNode::report() const {

@@ -173,6 +173,34 @@ TEST(ControllerNodeParams, WeightsInCheckedWithTheOtherProblems) {
   std::remove(path.c_str());
 }
 
+// Issue 5: the safety keys are read, range-checked and known (~stale_policy used to be refused
+// as an unknown parameter although the reader read it).
+TEST(ControllerNodeParams, StaleKeysReadAndKnown) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  tree.setPath("stale_policy", pm::ParamValue::makeString("zero"));
+  tree.setPath("stale_timeout", pm::ParamValue::makeDouble(0.2));
+  tree.setPath("diagnostic_period", pm::ParamValue::makeDouble(0.5));
+  const auto p = pm::ros1::readControllerNodeParams(tree, style("/mrac_controller"));
+  EXPECT_EQ(p.stale_policy, pm::StalePolicy::kZero);
+  EXPECT_DOUBLE_EQ(p.stale_timeout, 0.2);
+  EXPECT_DOUBLE_EQ(p.diagnostic_period, 0.5);
+  tree.setPath("stale_timeout", pm::ParamValue::makeDouble(0.0));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
+  EXPECT_TRUE(anyContains(probs, "/mrac_controller/stale_timeout")) << joined(probs);
+  EXPECT_FALSE(anyContains(probs, "unknown parameter")) << joined(probs);
+}
+
+TEST(PlantNodeParams, CommandTimeoutReadAndChecked) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  EXPECT_DOUBLE_EQ(pm::ros1::readPlantNodeParams(tree, style("/plant_sim")).cmd_timeout, 0.05);
+  tree.setPath("cmd_timeout", pm::ParamValue::makeDouble(-1.0));
+  tree.setPath("diagnostic_period", pm::ParamValue::makeDouble(0.0));
+  const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/cmd_timeout")) << joined(probs);
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/diagnostic_period")) << joined(probs);
+}
+
 TEST(LatencyStats, NearestRankPercentiles) {
   std::vector<double> v;
   for (int i = 100; i >= 1; --i) v.push_back(static_cast<double>(i));

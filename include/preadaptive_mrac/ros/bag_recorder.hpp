@@ -24,6 +24,13 @@ struct BagRecorderParams {
   std::string output;               ///< ~output: bag path ("" = use ~output_prefix)
   std::string output_prefix;        ///< ~output_prefix: <prefix>_YYYY-MM-DD-HH-MM-SS.bag
   int progress_every = 100;         ///< ~progress_every: publish ~progress every N states
+  /// ~split_size_mb: start a new bag when the current one reaches this size [MB]; 0 = never.
+  double split_size_mb = 0.0;
+  /// ~split_duration: start a new bag after this wall time [s] of recording; 0 = never.
+  double split_duration = 0.0;
+  /// ~chunk_size_kb: rosbag chunk threshold [KB]; a chunk is on disk once full, so after a
+  /// crash at most about this much (plus the stdio buffer) of the open bag is lost.
+  int chunk_size_kb = 768;
 };
 
 /// \brief Subscribes to every topic of any type and writes each message into one bag, at the
@@ -40,6 +47,7 @@ class BagRecorder {
   BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params);
   /// \brief Spin until shutdown, then close the bag. Returns 0.
   int run();
+  /// \brief The bag being written (without the `.active` suffix it carries while open).
   const std::string& path() const { return path_; }
 
  private:
@@ -48,9 +56,21 @@ class BagRecorder {
   void reportProgress(const std::string& topic, const topic_tools::ShapeShifter& msg);
   /// \brief Whether a message type's definition starts with `Header header` (cached).
   bool hasHeader(const topic_tools::ShapeShifter& msg);
+  /// \brief Open bag number `index_` as `<path>.active` (like rosbag record), so a crash
+  /// leaves a file that `rosbag reindex` (scripts/reindex_bags) can recover.
+  void openBag();
+  /// \brief Close the bag and rename `<path>.active` to `<path>`.
+  void closeBag();
+  /// \brief Whether the split size or duration is reached (then the next bag is opened).
+  bool splitDue() const;
 
   ros::NodeHandle nh_;
-  std::string path_;
+  BagRecorderParams params_;
+  std::string single_;  ///< the bag's path when not splitting (~output as given)
+  std::string base_;    ///< path of the split series, without `.bag`
+  std::string path_;    ///< the bag being written (final name, without `.active`)
+  int index_ = 0;       ///< split number
+  double opened_wall_ = 0.0;
   rosbag::Bag bag_;
   std::vector<ros::Subscriber> subs_;
   ros::Publisher progress_pub_;

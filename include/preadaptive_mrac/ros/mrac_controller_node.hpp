@@ -2,6 +2,7 @@
 /// \file mrac_controller_node.hpp
 /// \brief ROS wiring of the core Controller: one controller step per plant/state message.
 
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 
 #include <cstdint>
@@ -46,6 +47,10 @@ class MracControllerNode {
   void process(const PlantState& msg, const Vec* theta);
   /// \brief Answer a rejected state with the safe command (~stale_policy) of the last valid one.
   void answerRejected(const PlantState& msg, const std::string& why);
+  /// \brief Every sample time: with no valid state for ~stale_timeout, publish the safe
+  /// command (~stale_policy) of the last valid state, flagged `stale`; then diagnostics.
+  void staleTimerCallback(const ros::TimerEvent&);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   bool waitForSubscribers();
   void saveWeights(const char* why);
   void fatal(const std::string& what);
@@ -55,6 +60,8 @@ class MracControllerNode {
   Controller ctl_;
   ros::Publisher cmd_pub_, attention_pub_, status_pub_;
   ros::Subscriber state_sub_, truth_sub_;
+  ros::Timer stale_timer_;
+  diagnostic_updater::Updater updater_;
 
   ElevatorCommand cmd_msg_;
   AdaptationStatus status_msg_;
@@ -67,6 +74,19 @@ class MracControllerNode {
   bool have_last_ = false;
   std::uint64_t last_step_ = 0;
   std::int64_t gaps_ = 0, steps_ = 0, episodes_saved_ = -1;
+
+  // Staleness (ROS time: wall time, or simulation time under /use_sim_time, so a lockstep
+  // plant that pauses does not make the controller stale).
+  bool stale_ = false;
+  std::uint64_t last_valid_step_ = 0;  ///< step of the last valid state
+  double last_valid_t_ = 0.0;          ///< its sample time [s]
+  std::uint64_t safe_step_ = 0;        ///< step of the last command from the staleness timer
+  double stale_since_ = 0.0;           ///< ROS time [s] the input went stale
+  std::int64_t stale_commands_ = 0, stale_episodes_ = 0, rejected_answers_ = 0;
+  std::int64_t states_received_ = 0, saturated_ = 0, onsets_ = 0, resets_ = 0, recoveries_ = 0;
+  std::int64_t plant_restarts_ = 0;
+  std::int64_t diag_states_ = 0;  ///< states_received_ at the last diagnostics report
+  double diag_time_ = 0.0;        ///< ROS time [s] of the last diagnostics report
 
   std::map<std::uint64_t, Vec> truth_;        ///< pa_learn_exact: theta by step
   std::deque<PlantState::ConstPtr> pending_;  ///< states waiting for their truth

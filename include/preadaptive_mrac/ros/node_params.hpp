@@ -46,6 +46,10 @@ struct PlantNodeParams {
   std::string recorder_progress_topic;  ///< ~recorder_progress_topic: bag_recorder_node's
                                         ///< ~progress; lockstep waits for it ("" = no recorder)
   int max_recorder_lag = 2000;  ///< ~max_recorder_lag: steps the recorder may fall behind (>= 1)
+  /// ~cmd_timeout: realtime only: with no valid command received within this wall time [s]
+  /// the plant holds trim (u = 0) until one arrives; (0, 1e6]. Lockstep waits instead.
+  double cmd_timeout = 0.05;
+  double diagnostic_period = 1.0;  ///< ~diagnostic_period: read by diagnostic_updater [s]
 };
 
 /// \brief Everything mrac_controller_node reads from `~`.
@@ -63,6 +67,11 @@ struct ControllerNodeParams {
   StalePolicy stale_policy = StalePolicy::kBaselineHold;
   int queue_size = 0;  ///< ~queue_size: per-subscriber outgoing queue of the
                        ///< per-step topics; 0 = unbounded (nothing dropped)
+  /// ~stale_timeout: with no valid state for this ROS time [s] (wall time unless
+  /// /use_sim_time) the controller publishes the ~stale_policy command at its sample rate and
+  /// does not adapt; (0, 1e6].
+  double stale_timeout = 0.05;
+  double diagnostic_period = 1.0;  ///< ~diagnostic_period: read by diagnostic_updater [s]
 };
 
 /// \brief Read and validate plant_sim_node's private parameters. Throws ConfigError listing

@@ -3,6 +3,7 @@
 /// \brief ROS wiring of the plant simulator: the core ScenarioPlant (the same stepping object
 /// the batch loop uses), published as plant/state, plant/truth, tf and (lockstep) /clock.
 
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -57,6 +58,8 @@ class PlantSimNode {
   /// \brief Advance the plant by one step with elevator u [rad]; integrates the pitch angle.
   void advance(double u);
   void finish(bool completed);
+  /// \brief diagnostic_updater task: rates, rejected commands, command age, trim, saturation.
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   static ros::Time simStamp(double t);
 
   ros::NodeHandle nh_;
@@ -65,6 +68,7 @@ class PlantSimNode {
   ros::Publisher state_pub_, truth_pub_, clock_pub_;
   ros::Subscriber cmd_sub_, progress_sub_;
   tf2_ros::TransformBroadcaster tf_;
+  diagnostic_updater::Updater updater_;
 
   PlantState state_msg_;
   PlantTruth truth_msg_;
@@ -78,6 +82,17 @@ class PlantSimNode {
   std::uint64_t cmd_step_ = 0;
   double cmd_u_ = 0.0;
   std::int64_t commands_received_ = 0, commands_ignored_ = 0;
+  std::int64_t commands_rejected_ = 0;   ///< non-finite u: counted, never applied
+  std::int64_t stale_cmds_ignored_ = 0;  ///< lockstep: the controller's timer commands
+  std::int64_t trim_steps_ = 0;          ///< realtime: steps held at trim (no fresh command)
+  std::int64_t saturated_steps_ = 0;     ///< steps where the actuator limited the command
+  std::int64_t trim_episodes_ = 0;       ///< realtime: times the plant fell back to trim
+  bool in_trim_ = false;
+  bool cmd_stale_ = false;      ///< the held command came from the staleness timer
+  double last_cmd_wall_ = 0.0;  ///< wall time [s] of the last accepted command
+  std::string last_rejection_;
+  std::int64_t diag_steps_ = 0, diag_cmds_ = 0;  ///< counters at the last diagnostics report
+  double diag_wall_ = 0.0;
   std::int64_t stale_steps_ = 0, late_ticks_ = 0, resent_ = 0, recorder_waits_ = 0;
   std::vector<double> latency_us_;
   std::vector<double> publish_wall_;  ///< lockstep: wall time [s] state k was published
