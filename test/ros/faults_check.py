@@ -22,6 +22,8 @@ import time
 import unittest
 
 import rospy
+
+from rostest_util import wait_for
 from catkin.find_in_workspaces import find_in_workspaces
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
@@ -30,13 +32,6 @@ from preadaptive_mrac.msg import AdaptationStatus, ElevatorCommand, PlantState
 PKG = "preadaptive_mrac"
 
 
-def wait_for(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end and not rospy.is_shutdown():
-        if pred():
-            return
-        time.sleep(0.005)
-    raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
 
 
 def read_episodes(path):

@@ -17,6 +17,8 @@ import time
 import unittest
 
 import rospy
+
+from rostest_util import wait_for
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from preadaptive_mrac.msg import ElevatorCommand, PlantState
@@ -25,13 +27,6 @@ PKG = "preadaptive_mrac"
 U = 0.01
 
 
-def wait_for(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end and not rospy.is_shutdown():
-        if pred():
-            return
-        time.sleep(0.002)
-    raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
 
 
 class PlantCommandTest(unittest.TestCase):

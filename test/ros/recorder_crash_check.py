@@ -16,6 +16,8 @@ import rosbag
 import rosgraph
 import rosnode
 import rospy
+
+from rostest_util import wait_for
 import rostest
 from preadaptive_mrac.msg import PlantState, RecorderProgress
 
@@ -23,13 +25,6 @@ PKG = "preadaptive_mrac"
 N = 3000
 
 
-def wait_for(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end and not rospy.is_shutdown():
-        if pred():
-            return
-        time.sleep(0.005)
-    raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
 
 
 class RecorderCrashTest(unittest.TestCase):
