@@ -6,7 +6,12 @@ add_library(preadaptive_mrac_core
   src/core/scenario.cpp
   src/core/network.cpp
   src/core/controller.cpp
+  src/core/paper_preadaptation.cpp
+  src/core/oracle_preadaptation.cpp
+  src/core/robust_preadaptation.cpp
+  src/core/regime_memory.cpp
   src/core/closed_loop.cpp
+  src/core/scenario_family.cpp
   src/core/input_guard.cpp)
 target_include_directories(preadaptive_mrac_core PUBLIC
   $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> ${EIGEN3_INCLUDE_DIRS})
@@ -31,13 +36,15 @@ add_executable(preadapt_sim src/tools/preadapt_sim.cpp)
 target_link_libraries(preadapt_sim preadaptive_mrac_cli)
 add_executable(preadapt_sweep src/tools/preadapt_sweep.cpp)
 target_link_libraries(preadapt_sweep preadaptive_mrac_cli)
-set_target_properties(preadapt_sim preadapt_sweep PROPERTIES
+add_executable(preadapt_family src/tools/preadapt_family.cpp)
+target_link_libraries(preadapt_family preadaptive_mrac_cli)
+set_target_properties(preadapt_sim preadapt_sweep preadapt_family PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
 install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS preadapt_sim preadapt_sweep RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS preadapt_sim preadapt_sweep preadapt_family RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 install(DIRECTORY config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
   OPTIONAL)

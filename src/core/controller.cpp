@@ -3,8 +3,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "preadaptive_mrac/core/oracle_preadaptation.hpp"
+#include "preadaptive_mrac/core/paper_preadaptation.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
+#include "preadaptive_mrac/core/robust_preadaptation.hpp"
 
 namespace preadaptive_mrac {
 
@@ -18,6 +21,10 @@ const char* modeName(Mode m) {
       return "pa_learn";
     case Mode::kPaLearnExact:
       return "pa_learn_exact";
+    case Mode::kPaRobust:
+      return "pa_robust";
+    case Mode::kOracle:
+      return "oracle";
   }
   return "?";
 }
@@ -27,6 +34,8 @@ std::optional<Mode> parseMode(const std::string& s) {
   if (s == "pa") return Mode::kPa;
   if (s == "pa_learn") return Mode::kPaLearn;
   if (s == "pa_learn_exact") return Mode::kPaLearnExact;
+  if (s == "pa_robust") return Mode::kPaRobust;
+  if (s == "oracle") return Mode::kOracle;
   return std::nullopt;
 }
 
@@ -40,8 +49,78 @@ const char* eventTypeName(Event::Type t) {
       return "ignored_onset";
     case Event::Type::kIgnoredRecovery:
       return "ignored_recovery";
+    case Event::Type::kDecision:
+      return "decision";
   }
   return "?";
+}
+
+const char* decisionName(Event::Decision d) {
+  switch (d) {
+    case Event::Decision::kNone:
+      return "none";
+    case Event::Decision::kKeep:
+      return "keep";
+    case Event::Decision::kFit:
+      return "fit";
+    case Event::Decision::kMemory:
+      return "memory";
+    case Event::Decision::kNetwork:
+      return "network";
+  }
+  return "?";
+}
+
+RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
+  RobustConfig c;
+  if (!r.has(p)) return c;  // optional section: the documented defaults
+  c.detect_window = r.getDouble(p + ".detect_window");
+  c.chunk = r.getDouble(p + ".chunk");
+  c.threshold = r.getDouble(p + ".threshold");
+  c.noise_factor = r.getDouble(p + ".noise_factor");
+  c.noise_time = r.getDouble(p + ".noise_time");
+  c.verify_time = r.getDouble(p + ".verify_time");
+  c.margin = r.getDouble(p + ".margin");
+  c.significance = r.getDouble(p + ".significance");
+  c.ridge = r.getDouble(p + ".ridge");
+  c.memory_size = static_cast<int>(r.getInt(p + ".memory_size"));
+  c.merge_tolerance = r.getDouble(p + ".merge_tolerance");
+  c.settle_time = r.getDouble(p + ".settle_time");
+  c.quiet_time = r.getDouble(p + ".quiet_time");
+  c.use_network = r.getBool(p + ".use_network");
+  c.network_rate = r.getDouble(p + ".network_rate");
+  return c;
+}
+
+void RobustConfig::validate(ParamReader& r, const std::string& p) const {
+  auto range = [&](const std::string& key, double v, double lo, double hi, bool lo_open) {
+    const std::string k = p + "." + key;
+    if (!r.usable(k)) return;
+    const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
+    if (!ok)
+      r.fail(k, std::string("must be in ") + (lo_open ? "(" : "[") + formatNumber(lo) + ", " +
+                    formatNumber(hi) + "], got " + formatNumber(v));
+  };
+  range("detect_window", detect_window, 0.0, 10.0, true);
+  range("chunk", chunk, 0.0, 10.0, true);
+  range("threshold", threshold, 0.0, 100.0, true);
+  range("noise_factor", noise_factor, 0.0, 1000.0, false);
+  range("noise_time", noise_time, 0.0, 1e6, true);
+  range("verify_time", verify_time, 0.0, 10.0, true);
+  range("margin", margin, 0.0, 1.0, false);
+  range("significance", significance, 0.0, 1e6, false);
+  range("ridge", ridge, 0.0, 1e6, false);
+  range("memory_size", memory_size, 0.0, 1024.0, false);
+  range("merge_tolerance", merge_tolerance, 0.0, 100.0, false);
+  range("settle_time", settle_time, 0.0, 1e6, false);
+  range("quiet_time", quiet_time, 0.0, 1e6, true);
+  range("network_rate", network_rate, 0.0, 1e3, false);
+  if (r.usable(p + ".verify_time") && r.usable(p + ".detect_window") && verify_time < detect_window)
+    r.fail(p + ".verify_time", "must be >= detect_window (" + formatNumber(detect_window) +
+                                   "), got " + formatNumber(verify_time));
+  if (r.usable(p + ".chunk") && r.usable(p + ".verify_time") && chunk > verify_time)
+    r.fail(p + ".chunk", "must be <= verify_time (" + formatNumber(verify_time) + "), got " +
+                             formatNumber(chunk));
 }
 
 ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string& p) {
@@ -52,7 +131,9 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
     if (m) {
       c.mode = *m;
     } else if (!mode.empty() || r.has(p + ".mode")) {
-      r.fail(p + ".mode", "expected one of rac, pa, pa_learn, pa_learn_exact, got '" + mode + "'");
+      r.fail(p + ".mode",
+             "expected one of rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle, got '" + mode +
+                 "'");
     }
   }
   c.sample_time = r.getDouble(p + ".sample_time");
@@ -79,6 +160,7 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
     c.theta_max = r.getDouble(p + ".projection.theta_max");
     c.projection_epsilon = r.getDouble(p + ".projection.epsilon");
   }
+  c.robust = RobustConfig::read(r, p + ".robust");
   c.validate(r, n, p);
   return c;
 }
@@ -117,6 +199,7 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
       r.fail(p + ".adaptation.theta_hat0",
              "lies outside Omega (norm " + formatNumber(theta_hat0.norm()) + " > theta_max)");
   }
+  if (r.has(p + ".robust")) robust.validate(r, p + ".robust");
   if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
     if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
       r.fail(p + ".lqr.Q", "must be symmetric");
@@ -255,11 +338,20 @@ Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
   Phi_r_ = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
   Gam_r_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * b_ref_;
   x0_ = plant.x0;
-  sens_ = SensitivityTracker(design_.Ar, B_, PB_, cfg.gamma, out_);
   ev_.setZero(n_);
-  theta_err_.setZero(n_);
   upd_.setZero(n_);
   limits_ = plant.actuator;
+  switch (cfg.mode) {
+    case Mode::kPaRobust:
+      strategy_ = std::make_unique<RobustPreadaptation>(cfg, plant, &net_);
+      break;
+    case Mode::kOracle:
+      strategy_ = std::make_unique<OraclePreadaptation>(cfg.sample_time);
+      break;
+    default:
+      strategy_ =
+          std::make_unique<PaperPreadaptation>(cfg.mode, cfg, design_, B_, PB_, out_, &net_);
+  }
   reset();
 }
 
@@ -268,8 +360,14 @@ void Controller::reset() {
   theta_hat_ = cfg_.theta_hat0;
   vel_.reset();
   attention_.reset();
-  phase_cost_ = 0.0;
+  strategy_->reset();
   u_prev_ = 0.0;
+  r_prev_ = 0.0;
+}
+
+Vec Controller::phaseGradient() const {
+  const Vec* g = strategy_->phaseGradient();
+  return g != nullptr ? *g : Vec(Vec::Zero(n_));
 }
 
 void Controller::project(const Vec& theta, Vec* y) const {
@@ -285,17 +383,13 @@ void Controller::project(const Vec& theta, Vec* y) const {
   *y -= (std::min(f, 1.0) * grad_dot_y / th2) * theta;
 }
 
-void Controller::clampToOmega(Vec* theta) const {
-  const double nrm = theta->norm();
-  if (nrm > cfg_.theta_max) *theta *= cfg_.theta_max / nrm;
-}
-
 void Controller::setNetwork(const NetworkState& s) {
   if (s.hidden() != cfg_.hidden || s.outputs() != n_)
     throw std::invalid_argument("network has " + std::to_string(s.hidden()) + " hidden x " +
                                 std::to_string(s.outputs()) + " outputs, the controller needs " +
                                 std::to_string(cfg_.hidden) + " x " + std::to_string(n_));
   net_ = PreadaptNetwork(s);
+  RegimeMemory(&net_.state().regimes, cfg_.robust.memory_size).trim();
 }
 
 double Controller::safeCommand(const Vec& x_last, StalePolicy policy) {
@@ -309,57 +403,59 @@ void Controller::startPhase(const Vec& theta_I) {
     throw std::invalid_argument("startPhase: theta_I must have " + std::to_string(n_) + " entries");
   theta_hat_ = theta_I;
   attention_.forceActive();
-  phase_cost_ = 0.0;
-  z_onset_.setZero();
-  sens_.start();
+  strategy_->startExternalPhase();
 }
 
 StepOutput Controller::step(const StepInput& in) {
   const Vec& x = *in.x;
-  const bool learning = cfg_.mode == Mode::kPaLearn || cfg_.mode == Mode::kPaLearnExact;
-  if (cfg_.mode == Mode::kPaLearnExact && in.theta_true == nullptr)
-    throw std::invalid_argument("mode pa_learn_exact needs the true theta at every step");
+  if (strategy_->needsTruth() && in.theta_true == nullptr)
+    throw std::invalid_argument(std::string("mode ") + modeName(cfg_.mode) +
+                                " needs the true theta at every step");
 
   StepOutput out;
   ev_ = x - x_r_;
   out.e = ev_[out_];
   out.e_dot = vel_.update(out.e);
 
-  const Attention::Result att = attention_.update(out.e, out.e_dot);
-  if (att != Attention::Result::kNone) {
+  Sample smp;
+  smp.t = in.t;
+  smp.x = in.x;
+  smp.r = in.r;
+  smp.theta_true = in.theta_true;
+  smp.ev = &ev_;
+  smp.e = out.e;
+  smp.e_dot = out.e_dot;
+  smp.u_prev = u_prev_;
+  smp.r_prev = r_prev_;
+  const Detection det = strategy_->detect(smp, theta_hat_, &attention_);
+  if (det != Detection::kNone) {
     Event ev;
     ev.t = in.t;
     ev.e = out.e;
     ev.e_dot = out.e_dot;
     ev.theta_hat_before = theta_hat_;
-    switch (att) {
-      case Attention::Result::kOnset:
+    switch (det) {
+      case Detection::kOnset:
         ev.type = Event::Type::kOnset;
-        phase_cost_ = 0.0;
-        if (cfg_.mode != Mode::kRac) {
-          z_onset_ << out.e, std::abs(out.e_dot);
-          net_.forward(z_onset_, &theta_hat_);
-          if (cfg_.projection) clampToOmega(&theta_hat_);
-          ev.reset = true;
-          if (learning) sens_.start();
-        }
+        attention_.forceActive();
+        strategy_->onOnset(smp, &theta_hat_, &ev);
         break;
-      case Attention::Result::kRecovered:
+      case Detection::kRecovered:
         ev.type = Event::Type::kRecovered;
-        ev.cost = phase_cost_;
-        if (learning) {
-          ev.grad = sens_.grad();
-          net_.learn(z_onset_, sens_.grad(), cfg_.gamma_pa);
-          ev.learned = true;
-        }
+        attention_.endPhase();
+        strategy_->onRecovery(smp, theta_hat_, &ev);
         break;
-      case Attention::Result::kIgnoredOnset:
+      case Detection::kIgnoredOnset:
         ev.type = Event::Type::kIgnoredOnset;
         break;
-      case Attention::Result::kIgnoredRecovery:
+      case Detection::kIgnoredRecovery:
         ev.type = Event::Type::kIgnoredRecovery;
         break;
-      case Attention::Result::kNone:
+      case Detection::kDecision:
+        ev.type = Event::Type::kDecision;
+        strategy_->onDecision(smp, &theta_hat_, &ev);
+        break;
+      case Detection::kNone:
         break;
     }
     ev.theta_hat_after = theta_hat_;
@@ -377,16 +473,7 @@ StepOutput Controller::step(const StepInput& in) {
   out.x_ref = x_r_;
   out.theta_hat = theta_hat_;
 
-  if (attention_.phaseActive()) {
-    phase_cost_ += std::abs(out.e) * dt_;
-    if (learning) {
-      if (cfg_.mode == Mode::kPaLearnExact)
-        theta_err_ = *in.theta_true - theta_hat_;
-      else
-        theta_err_.setZero();
-      sens_.accumulate(dt_, ev_, x, theta_err_);
-    }
-  }
+  if (attention_.phaseActive()) strategy_->duringPhase(smp, out.u, theta_hat_);
   // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x; frozen while the
   // elevator is limited (the plant does not get the u the law assumes), projected onto Omega.
   if (!(out.saturated && cfg_.freeze_when_saturated)) {
@@ -394,7 +481,8 @@ StepOutput Controller::step(const StepInput& in) {
     if (cfg_.projection) {
       project(theta_hat_, &upd_);
       theta_hat_ += dt_ * upd_;
-      clampToOmega(&theta_hat_);  // the Euler step can overshoot the boundary layer by O(dt)
+      clampToBall(&theta_hat_,
+                  cfg_.theta_max);  // the Euler step can overshoot the boundary layer by O(dt)
     } else {
       theta_hat_ += dt_ * upd_;
     }
@@ -404,6 +492,7 @@ StepOutput Controller::step(const StepInput& in) {
   xr_next.noalias() = Phi_r_.lazyProduct(x_r_);
   xr_next += Gam_r_ * in.r;
   x_r_ = xr_next;
+  r_prev_ = in.r;
   return out;
 }
 

@@ -220,6 +220,28 @@ std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const Sim
   return j.str();
 }
 
+std::string scenarioToYaml(const Scenario& sc) {
+  auto num = [](double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof(buf), "%.17g", v);
+    return std::string(buf);
+  };
+  std::ostringstream os;
+  os << "scenario:\n";
+  os << "  name: " << Json().str(sc.name).str() << "\n";
+  os << "  description: " << Json().str(sc.description).str() << "\n";
+  os << "  theta:\n";
+  for (const auto& seg : sc.theta) {
+    os << "    - {until: " << num(seg.until) << ", theta: [";
+    for (Eigen::Index i = 0; i < seg.theta.size(); ++i) os << (i ? ", " : "") << num(seg.theta[i]);
+    os << "]}\n";
+  }
+  os << "  reference:\n";
+  for (const auto& seg : sc.reference)
+    os << "    - {until: " << num(seg.until) << ", r: " << num(seg.r) << "}\n";
+  return os.str();
+}
+
 void writeSeriesCsv(const std::string& path, const Series& s) {
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "w"), &std::fclose);
   if (!f) throw FileError(path + ": cannot write CSV");

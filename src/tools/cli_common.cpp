@@ -89,7 +89,7 @@ PreparedRun prepare(const RunRequest& req) {
   if (req.mode) {
     if (!parseMode(*req.mode))
       throw UsageError("--mode: unknown mode '" + *req.mode +
-                       "' (expected rac, pa, pa_learn or pa_learn_exact)");
+                       "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust or oracle)");
     tree.setPath("controller.mode", ParamValue::makeString(*req.mode));
   }
   if (req.seed)

@@ -74,8 +74,9 @@ int main(int argc, char** argv) {
       } else if (a == "--modes" || a == "--mode") {
         for (const auto& m : cli::splitTopLevel(cli::nextArg(argc, argv, &i))) {
           if (!parseMode(m))
-            throw cli::UsageError("--modes: unknown mode '" + m +
-                                  "' (expected rac, pa, pa_learn or pa_learn_exact)");
+            throw cli::UsageError(
+                "--modes: unknown mode '" + m +
+                "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust or oracle)");
           modes.push_back(m);
         }
       } else if (a == "--seeds") {

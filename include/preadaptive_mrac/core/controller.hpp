@@ -4,12 +4,14 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "preadaptive_mrac/core/input_guard.hpp"
 #include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
+#include "preadaptive_mrac/core/preadaptation.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
@@ -23,10 +25,34 @@ enum class Mode {
   kPa,            ///< preadaptation, network fixed
   kPaLearn,       ///< preadaptation, learning with the approximate gradient (Pi_hat)
   kPaLearnExact,  ///< preadaptation, learning with the exact gradient (needs true theta)
+  kPaRobust,      ///< robust preadaptation: residual trigger, regime memory, verification
+  kOracle,        ///< yardstick: theta_hat := true theta at each switch (needs true theta)
 };
 const char* modeName(Mode m);
-/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact".
+/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact" | "pa_robust" | "oracle".
 std::optional<Mode> parseMode(const std::string& s);
+
+/// \brief Parameters of pa_robust (key `controller.robust`; docs/robust.md).
+struct RobustConfig {
+  double detect_window = 0.02;    ///< window of the identification residual [s]
+  double chunk = 0.005;           ///< data chunk of the verification scores [s]
+  double threshold = 0.02;        ///< smallest mean residual that triggers [rad]
+  double noise_factor = 5.0;      ///< trigger also needs residual > factor x its noise level
+  double noise_time = 2.0;        ///< horizon of the noise-level estimate [s]
+  double verify_time = 0.05;      ///< decisions are re-made on growing data for this long [s]
+  double margin = 0.2;            ///< a candidate must score this fraction below keeping
+  double significance = 9.0;      ///< improvements must exceed this many noise variances
+  double ridge = 1e-3;            ///< ridge of the fit, relative to the data's energy
+  int memory_size = 8;            ///< regimes remembered (least used dropped first)
+  double merge_tolerance = 0.02;  ///< regimes closer than this on the visited states merge [rad]
+  double settle_time = 1.0;       ///< a regime is banked only after lasting this long [s]
+  double quiet_time = 1.0;        ///< phase ends after the residual is quiet this long [s]
+  bool use_network = true;        ///< the network's prediction is one of the candidates
+  double network_rate = 0.05;     ///< its supervised learning rate at each recovery
+
+  static RobustConfig read(ParamReader& r, const std::string& prefix);
+  void validate(ParamReader& r, const std::string& prefix) const;
+};
 
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig {
@@ -50,6 +76,7 @@ struct ControllerConfig {
   bool projection = false;          ///< smooth projection of theta_hat onto ||theta|| <= theta_max
   double theta_max = 0.0;           ///< radius of Omega
   double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
+  RobustConfig robust;              ///< pa_robust (optional section; defaults documented)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   static ControllerConfig read(ParamReader& r, int n, const std::string& prefix = "controller");
@@ -59,7 +86,9 @@ struct ControllerConfig {
 
 /// \brief An attention event.
 struct Event {
-  enum class Type { kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery };
+  enum class Type { kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery, kDecision };
+  /// \brief What a verification (pa_robust) chose.
+  enum class Decision { kNone, kKeep, kFit, kMemory, kNetwork };
   Type type = Type::kOnset;
   double t = 0.0;             ///< sample time [s]
   double e = 0.0;             ///< output error alpha - alpha_r [rad]
@@ -71,8 +100,15 @@ struct Event {
   Vec grad;                   ///< dE/dtheta_hat_I (recoveries in learning modes)
   bool learned = false;       ///< the network was updated
   std::int64_t episodes = 0;  ///< learning episodes after the event
+  // pa_robust verification (onsets and decisions):
+  Decision decision = Decision::kNone;  ///< keep, fit the data, a remembered regime, network
+  int chosen = -1;                      ///< index of the remembered regime chosen (kMemory)
+  int candidates = 0;                   ///< candidates scored (keep, memory, network)
+  double score = 0.0;       ///< RMS identification residual of the estimate kept or set [rad]
+  double score_keep = 0.0;  ///< the same for keeping the pre-switch estimate [rad]
 };
 const char* eventTypeName(Event::Type t);
+const char* decisionName(Event::Decision d);
 
 /// \brief Input of one controller step.
 struct StepInput {
@@ -130,6 +166,8 @@ class Attention {
   bool phaseActive() const { return active_; }
   /// \brief Enter a phase without an onset (an externally triggered phase).
   void forceActive() { active_ = true; }
+  /// \brief Leave the phase (a strategy's own recovery).
+  void endPhase() { active_ = false; }
   void reset() {
     primed_ = false;
     active_ = false;
@@ -185,6 +223,8 @@ class Controller {
   /// \brief Derives K (CARE) and P (Lyapunov) from the plant's A, B and the config's Q, R;
   /// throws SolverError when that is impossible. The plant is known only through A, B, B1r.
   Controller(const PlantConfig& plant, const ControllerConfig& cfg);
+  Controller(const Controller&) = delete;  // the strategy points at this controller's network
+  Controller& operator=(const Controller&) = delete;
 
   /// \brief One sample. Allocation-free.
   StepOutput step(const StepInput& in);
@@ -205,14 +245,16 @@ class Controller {
   /// recovery event; learning modes then update the network as usual.
   void startPhase(const Vec& theta_I);
   /// \brief E = integral |e| dt since the phase began [rad s].
-  double phaseCost() const { return phase_cost_; }
-  /// \brief dE/dtheta_hat_I accumulated since the phase began (learning modes).
-  const Vec& phaseGradient() const { return sens_.grad(); }
+  double phaseCost() const { return strategy_->phaseCost(); }
+  /// \brief dE/dtheta_hat_I accumulated since the phase began (learning modes; zeros else).
+  Vec phaseGradient() const;
+  /// \brief The preadaptation strategy of the mode.
+  const PreadaptationStrategy& strategy() const { return *strategy_; }
   /// \brief The command while input is stale: the LQR baseline -K x_last (kBaselineHold) or 0,
   /// within the actuator limits. Adaptation, attention and learning do not run.
   double safeCommand(const Vec& x_last, StalePolicy policy);
-  /// \brief True in pa_learn_exact, which needs StepInput::theta_true.
-  bool needsTruth() const { return cfg_.mode == Mode::kPaLearnExact; }
+  /// \brief True in pa_learn_exact and oracle, which need StepInput::theta_true.
+  bool needsTruth() const { return strategy_->needsTruth(); }
 
  private:
   ControllerConfig cfg_;
@@ -224,18 +266,14 @@ class Controller {
   Vec Gam_r_;  // RK4 input vector of the reference model over dt (times r)
   /// \brief Smooth projection (Pomet-Praly) of the update direction y at theta.
   void project(const Vec& theta, Vec* y) const;
-  /// \brief Radial projection of a reset value onto Omega.
-  void clampToOmega(Vec* theta) const;
 
-  Vec x0_, x_r_, theta_hat_, ev_, theta_err_, upd_;
-  double phase_cost_ = 0.0;
+  Vec x0_, x_r_, theta_hat_, ev_, upd_;
   ActuatorLimits limits_;
-  double u_prev_ = 0.0;
+  double u_prev_ = 0.0, r_prev_ = 0.0;
   VelocityEstimator vel_;
   Attention attention_;
   PreadaptNetwork net_;
-  SensitivityTracker sens_;
-  NetInput z_onset_;
+  std::unique_ptr<PreadaptationStrategy> strategy_;
 };
 
 }  // namespace preadaptive_mrac

@@ -4,7 +4,9 @@
 /// (section "Preadaptation Function"), with its gradients (eqs. der-E-Wpa, der-E-Vpa).
 
 #include <cstdint>
+#include <vector>
 
+#include "preadaptive_mrac/core/regime_memory.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
 namespace preadaptive_mrac {
@@ -16,6 +18,9 @@ struct NetworkState {
   std::uint64_t seed = 0;     ///< seed of the initial weights
   double init_scale = 0.0;    ///< initial weights drawn uniform in [-scale, scale]
   std::int64_t episodes = 0;  ///< learning episodes applied so far
+  /// Regimes remembered by pa_robust (saved with the weights, so a second run of the same
+  /// plant starts with its memory); empty for the paper's modes.
+  std::vector<RegimeEntry> regimes;
   int hidden() const { return static_cast<int>(V.cols()); }
   int outputs() const { return static_cast<int>(W.cols()); }
 };

@@ -56,6 +56,8 @@ struct RunInfo {
 
 /// \brief One-line JSON summary of a run (the `--json` output and one sweep line).
 std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const SimResult& res);
+/// \brief A scenario as the YAML that Scenario::read reads back (17 significant digits).
+std::string scenarioToYaml(const Scenario& s);
 /// \brief Write the time series as CSV (t, x, x_r, e, e_dot_est, u, theta_hat, theta_true, phase).
 void writeSeriesCsv(const std::string& path, const Series& s);
 

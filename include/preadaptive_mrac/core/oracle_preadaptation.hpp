@@ -1,0 +1,33 @@
+#pragma once
+/// \file oracle_preadaptation.hpp
+/// \brief `oracle`: a simulation-only yardstick. At every change of the true theta (and at the
+/// first sample) theta_hat is set to the true theta, instantly; the MRAC law runs as usual.
+/// Needs the truth (like pa_learn_exact), so it cannot run on a real aircraft.
+
+#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/preadaptation.hpp"
+
+namespace preadaptive_mrac {
+
+class OraclePreadaptation : public PreadaptationStrategy {
+ public:
+  explicit OraclePreadaptation(double dt) : dt_(dt) {}
+  bool needsTruth() const override { return true; }
+  void reset() override {
+    have_last_ = false;
+    phase_cost_ = 0.0;
+  }
+  Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
+  void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;
+  void duringPhase(const Sample& s, double u, const Vec& theta_hat) override;
+  void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) override;
+  double phaseCost() const override { return phase_cost_; }
+
+ private:
+  double dt_;
+  bool have_last_ = false;
+  Vec last_;
+  double phase_cost_ = 0.0;
+};
+
+}  // namespace preadaptive_mrac

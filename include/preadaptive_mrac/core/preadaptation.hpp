@@ -1,0 +1,83 @@
+#pragma once
+/// \file preadaptation.hpp
+/// \brief The one interface every preadaptation strategy implements: how a disturbance is
+/// detected, what happens at an onset, during a phase and at a recovery.
+///
+/// Controller::step has one path for every mode: detect, act on the detection through the
+/// strategy, compute u, let the strategy follow the phase, run the adaptation law. A new
+/// strategy is a new class behind this interface (paper_preadaptation.hpp: rac, pa, pa_learn,
+/// pa_learn_exact; robust_preadaptation.hpp: pa_robust; oracle_preadaptation.hpp: oracle).
+
+#include <memory>
+#include <optional>
+
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+class Attention;
+struct Event;
+struct ControllerConfig;
+struct PlantConfig;
+struct ControllerDesign;
+class PreadaptNetwork;
+class RegimeMemory;
+
+/// \brief What a strategy sees of one sample t_k.
+struct Sample {
+  double t = 0.0;                   ///< sample time [s]
+  const Vec* x = nullptr;           ///< measured state x_k [e_I, alpha, q]
+  double r = 0.0;                   ///< command r(t_k) [rad]
+  const Vec* theta_true = nullptr;  ///< simulation truth (strategies that need it only)
+  const Vec* ev = nullptr;          ///< e_v = x - x_r
+  double e = 0.0;                   ///< output error [rad]
+  double e_dot = 0.0;               ///< its estimated rate [rad/s]
+  double u_prev = 0.0;              ///< elevator applied over [t_{k-1}, t_k] [rad]
+  double r_prev = 0.0;              ///< r held over [t_{k-1}, t_k] [rad]
+};
+
+/// \brief What a sample's detection found.
+enum class Detection {
+  kNone,
+  kOnset,            ///< a disturbance began: start a phase (onOnset)
+  kRecovered,        ///< the phase ended (onRecovery)
+  kIgnoredOnset,     ///< an onset inside an active phase (reported only)
+  kIgnoredRecovery,  ///< a recovery outside a phase (reported only)
+  kDecision,         ///< a strategy's own decision inside a phase (onDecision)
+};
+
+/// \brief A preadaptation strategy. The controller owns the attention function, the network
+/// and the regime memory and hands them over; the strategy owns its own phase state.
+class PreadaptationStrategy {
+ public:
+  virtual ~PreadaptationStrategy() = default;
+  /// \brief True when the strategy needs Sample::theta_true (a simulation-only mode).
+  virtual bool needsTruth() const { return false; }
+  /// \brief Back to the start of a run (keeps what was learned: network, memory).
+  virtual void reset() {}
+  /// \brief Every sample before the command: what happened. Default: the paper's attention
+  /// function on (e, e_dot) (eq. attention).
+  virtual Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention);
+  /// \brief At an onset: may reset theta_hat; fills the event's reset field.
+  virtual void onOnset(const Sample& s, Vec* theta_hat, Event* ev) = 0;
+  /// \brief At a kDecision detection: may move theta_hat; fills the event.
+  virtual void onDecision(const Sample& s, Vec* theta_hat, Event* ev);
+  /// \brief Every sample of an active phase, after the command u [rad] was computed.
+  virtual void duringPhase(const Sample& s, double u, const Vec& theta_hat) = 0;
+  /// \brief At a recovery: learn from the phase; fills cost, grad, learned.
+  virtual void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) = 0;
+  /// \brief Every sample after the command and the adaptation law (identifiers use it).
+  virtual void afterStep(const Sample& s, double u, const Vec& theta_hat) {
+    (void)s;
+    (void)u;
+    (void)theta_hat;
+  }
+  /// \brief E = integral |e| dt of the current phase [rad s].
+  virtual double phaseCost() const { return 0.0; }
+  /// \brief dE/dtheta_hat_I of the current phase (learning modes; empty otherwise).
+  virtual const Vec* phaseGradient() const { return nullptr; }
+  /// \brief Start a phase with theta_hat already set (an external trigger, Controller::startPhase).
+  virtual void startExternalPhase() {}
+};
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,77 @@
+#pragma once
+/// \file robust_preadaptation.hpp
+/// \brief `pa_robust`: preadaptation that detects a switch from the identification residual,
+/// predicts theta from a bounded memory of regimes (and the network), and verifies every
+/// candidate against the measured data before it moves theta_hat (docs/robust.md).
+///
+/// Identification data, one pair per sample (integral form, no differentiation of x):
+///   phi_k = dt (x_{k-1} + x_k) / 2,
+///   y_k   = B^T [x_k - x_{k-1} - dt (A (x_{k-1} + x_k) / 2 + B u_{k-1} + B1r r_{k-1})] / B^T B,
+/// so that y_k = theta^T phi_k up to O(dt^3) while theta is constant (eq. plant). The residual
+/// of an estimate over a window is sum (y - theta_hat^T phi) / T [rad, input-equivalent].
+
+#include <vector>
+
+#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/preadaptation.hpp"
+#include "preadaptive_mrac/core/regime_memory.hpp"
+
+namespace preadaptive_mrac {
+
+class RobustPreadaptation : public PreadaptationStrategy {
+ public:
+  RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant, PreadaptNetwork* net);
+  void reset() override;
+  Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
+  void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;
+  void onDecision(const Sample& s, Vec* theta_hat, Event* ev) override;
+  void duringPhase(const Sample& s, double u, const Vec& theta_hat) override;
+  void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) override;
+  double phaseCost() const override { return phase_cost_; }
+
+  /// \brief Mean residual of theta_hat over the last detection window [rad].
+  double residual() const { return rho_; }
+  /// \brief Current trigger threshold max(threshold, noise_factor * noise) [rad].
+  double triggerThreshold() const;
+  /// \brief Estimated standard deviation of the residual from noise alone [rad].
+  double noiseLevel() const { return dev_ / 1.1283791670955126; }
+
+ private:
+  struct Scores;
+  void push(const Vec& phi, double y, const Vec& theta_hat);
+  /// Ring index of the sample j samples ago (0 = newest).
+  int at(int j) const;
+  void windowSums(int j0, int len, Vec* phi, double* y) const;
+  void decide(Vec* theta_hat, Event* ev);
+  RegimeMemory memory();
+
+  RobustConfig rc_;
+  bool projection_;
+  double theta_max_, dt_;
+  Mat A_;
+  Vec B_, B1r_;
+  double bb_;
+  PreadaptNetwork* net_;
+  int Ld_, Lc_, Lv_, Lq_, Ls_, cap_;
+  // Ring buffer of identification data.
+  std::vector<Vec> phi_, th_;
+  std::vector<double> y_;
+  int head_ = -1, count_ = 0;
+  std::int64_t k_ = 0;
+  bool have_prev_ = false;
+  Vec x_prev_;
+  // Detection.
+  double rho_ = 0.0, dev_ = 0.0;
+  bool dev_init_ = false;
+  std::int64_t last_trigger_k_ = -1000000000;
+  // Phase.
+  bool verifying_ = false;
+  std::int64_t post_start_k_ = 0, verify_end_k_ = 0, next_decision_k_ = 0, regime_start_k_ = 0;
+  int quiet_ = 0;
+  Vec theta_keep_, theta_net_;
+  NetInput z_onset_ = NetInput::Zero();
+  int recalled_ = -1;
+  double phase_cost_ = 0.0;
+};
+
+}  // namespace preadaptive_mrac

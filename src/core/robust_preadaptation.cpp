@@ -1,0 +1,299 @@
+#include "preadaptive_mrac/core/robust_preadaptation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "preadaptive_mrac/core/paper_preadaptation.hpp"
+
+namespace preadaptive_mrac {
+
+namespace {
+int samplesOf(double seconds, double dt) {
+  return std::max(1, static_cast<int>(std::lround(seconds / dt)));
+}
+}  // namespace
+
+RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant,
+                                         PreadaptNetwork* net)
+    : rc_(cfg.robust),
+      projection_(cfg.projection),
+      theta_max_(cfg.theta_max),
+      dt_(cfg.sample_time),
+      A_(plant.A),
+      B_(plant.B),
+      B1r_(plant.B1r),
+      bb_(plant.B.squaredNorm()),
+      net_(net) {
+  Ld_ = samplesOf(rc_.detect_window, dt_);
+  Lc_ = samplesOf(rc_.chunk, dt_);
+  Lv_ = samplesOf(rc_.verify_time, dt_);
+  Lq_ = samplesOf(rc_.quiet_time, dt_);
+  Ls_ = samplesOf(rc_.settle_time, dt_);
+  cap_ = std::max(2 * Ld_, Lv_ + 2 * Ld_) + 2;
+  const int n = plant.n();
+  phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
+  th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
+  y_.assign(static_cast<size_t>(cap_), 0.0);
+  x_prev_.setZero(n);
+  theta_keep_.setZero(n);
+  theta_net_.setZero(n);
+  net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
+  reset();
+}
+
+void RobustPreadaptation::reset() {
+  head_ = -1;
+  count_ = 0;
+  k_ = 0;
+  have_prev_ = false;
+  rho_ = 0.0;
+  dev_ = 0.0;
+  dev_init_ = false;
+  last_trigger_k_ = -1000000000;
+  verifying_ = false;
+  post_start_k_ = verify_end_k_ = next_decision_k_ = regime_start_k_ = 0;
+  quiet_ = 0;
+  recalled_ = -1;
+  phase_cost_ = 0.0;
+}
+
+RegimeMemory RobustPreadaptation::memory() {
+  return RegimeMemory(&net_->state().regimes, rc_.memory_size);
+}
+
+int RobustPreadaptation::at(int j) const { return ((head_ - j) % cap_ + cap_) % cap_; }
+
+void RobustPreadaptation::push(const Vec& phi, double y, const Vec& theta_hat) {
+  head_ = (head_ + 1) % cap_;
+  phi_[static_cast<size_t>(head_)] = phi;
+  y_[static_cast<size_t>(head_)] = y;
+  th_[static_cast<size_t>(head_)] = theta_hat;
+  count_ = std::min(count_ + 1, cap_);
+}
+
+void RobustPreadaptation::windowSums(int j0, int len, Vec* phi, double* y) const {
+  phi->setZero(B_.size());
+  *y = 0.0;
+  for (int j = j0; j < j0 + len; ++j) {
+    *phi += phi_[static_cast<size_t>(at(j))];
+    *y += y_[static_cast<size_t>(at(j))];
+  }
+}
+
+double RobustPreadaptation::triggerThreshold() const {
+  return std::max(rc_.threshold, rc_.noise_factor * noiseLevel());
+}
+
+Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {
+  (void)attention;
+  const Vec& x = *s.x;
+  if (have_prev_) {
+    Vec xm = 0.5 * (x_prev_ + x);
+    Vec d = x - x_prev_;
+    Vec f;
+    f.noalias() = A_ * xm;
+    d -= dt_ * (f + B_ * s.u_prev + B1r_ * s.r_prev);
+    push(dt_ * xm, B_.dot(d) / bb_, theta_hat);
+  }
+  x_prev_ = x;
+  have_prev_ = true;
+  ++k_;
+  if (count_ < Ld_) return Detection::kNone;
+
+  const double Td = Ld_ * dt_;
+  Vec phi;
+  double y = 0.0;
+  windowSums(0, Ld_, &phi, &y);
+  rho_ = (y - theta_hat.dot(phi)) / Td;
+  const double thr = triggerThreshold();
+
+  // Noise level from the change of the residual between adjacent windows: a constant mismatch
+  // cancels, noise does not (E|delta| = 2 sigma / sqrt(pi)). Frozen around triggers.
+  if (k_ % Ld_ == 0 && count_ >= 2 * Ld_ && !verifying_ && std::abs(rho_) <= thr &&
+      k_ - last_trigger_k_ > 2 * Ld_) {
+    Vec phi_p;
+    double y_p = 0.0;
+    windowSums(Ld_, Ld_, &phi_p, &y_p);
+    const double delta = std::abs(rho_ - (y_p - theta_hat.dot(phi_p)) / Td);
+    const double beta = std::min(1.0, Td / rc_.noise_time);
+    if (!dev_init_) {
+      dev_ = std::min(delta, rc_.threshold);
+      dev_init_ = true;
+    } else {
+      dev_ += beta * (std::min(delta, std::max(4.0 * dev_, rc_.threshold)) - dev_);
+    }
+  }
+
+  if (verifying_) return k_ >= next_decision_k_ ? Detection::kDecision : Detection::kNone;
+  if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= Ld_) return Detection::kOnset;
+  if (attention->phaseActive()) {
+    quiet_ = std::abs(rho_) <= thr ? quiet_ + 1 : 0;
+    if (quiet_ >= Lq_) return Detection::kRecovered;
+  }
+  return Detection::kNone;
+}
+
+void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
+  // Where did the mismatch begin? The cumulative residual from the newest sample back grows
+  // while the data is post-change and stays flat before: take the shortest span holding 90 %
+  // of its largest excursion in the direction of the residual.
+  const int span = std::min(count_, std::max(2 * Ld_, 2));
+  const double sgn = rho_ >= 0.0 ? 1.0 : -1.0;
+  double S = 0.0, best = 0.0;
+  for (int j = 0; j < span; ++j) {
+    const int i = at(j);
+    S += sgn * (y_[static_cast<size_t>(i)] - theta_hat->dot(phi_[static_cast<size_t>(i)]));
+    best = std::max(best, S);
+  }
+  int m = span;
+  S = 0.0;
+  for (int j = 0; j < span; ++j) {
+    const int i = at(j);
+    S += sgn * (y_[static_cast<size_t>(i)] - theta_hat->dot(phi_[static_cast<size_t>(i)]));
+    if (S >= 0.9 * best) {
+      m = j + 1;
+      break;
+    }
+  }
+  m = std::max(m, std::min(2, span));
+  post_start_k_ = k_ - m + 1;
+  // The estimate of the regime just left: theta_hat before the change.
+  theta_keep_ = m < count_ ? th_[static_cast<size_t>(at(m))] : *theta_hat;
+
+  // Bank the regime just left when it lasted long enough for the estimate to settle.
+  if (k_ - regime_start_k_ >= Ls_ && count_ > m) {
+    Vec dir;
+    double ysum = 0.0;
+    const int len = std::min(Ld_, count_ - m);
+    windowSums(m, len, &dir, &ysum);
+    memory().remember(theta_keep_, dir / (len * dt_), rc_.merge_tolerance);
+  }
+
+  z_onset_ << s.e, std::abs(s.e_dot);
+  if (rc_.use_network) net_->forward(z_onset_, &theta_net_);
+  last_trigger_k_ = k_;
+  verifying_ = true;
+  verify_end_k_ = k_ + Lv_;
+  next_decision_k_ = k_ + Lc_;
+  quiet_ = 0;
+  recalled_ = -1;
+  phase_cost_ = 0.0;
+  decide(theta_hat, ev);
+}
+
+void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev) {
+  (void)s;
+  decide(theta_hat, ev);
+  next_decision_k_ += Lc_;
+  if (k_ >= verify_end_k_) {
+    verifying_ = false;
+    quiet_ = 0;
+    regime_start_k_ = post_start_k_;
+    if (recalled_ >= 0) memory().markUsed(recalled_);
+  }
+}
+
+void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
+  const int n = static_cast<int>(B_.size());
+  // Post-change data in chunks: G = sum Phi Phi^T, h = sum Phi Y, c = sum Y^2, so that the
+  // identification error of any theta is J = c - 2 theta^T h + theta^T G theta.
+  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, count_));
+  Mat G = Mat::Zero(n, n);
+  Vec h = Vec::Zero(n);
+  double c = 0.0;
+  int chunks = 0;
+  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
+    const int len = std::min(Lc_, j0 + 1);
+    Vec Phi;
+    double Y = 0.0;
+    windowSums(j0 - len + 1, len, &Phi, &Y);
+    G.noalias() += Phi * Phi.transpose();
+    h += Y * Phi;
+    c += Y * Y;
+    ++chunks;
+  }
+  auto J = [&](const Vec& th) { return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th)); };
+  // Noise of one chunk sum: the same as of one detection-window sum (endpoint noise), with a
+  // floor of a tenth of the threshold so that clean data does not act on round-off.
+  const double Tc = Lc_ * dt_;
+  const double sigma = std::max(noiseLevel() * Ld_ * dt_, 0.1 * rc_.threshold * Tc);
+  const double significant = rc_.significance * chunks * sigma * sigma;
+
+  const double j_keep = J(theta_keep_);
+  Event::Decision kind = Event::Decision::kKeep;
+  int chosen = -1;
+  double j_best = j_keep;
+  Vec base = theta_keep_;
+  RegimeMemory mem = memory();
+  int candidates = 1;
+  for (int i = 0; i < mem.size(); ++i, ++candidates) {
+    const double ji = J(mem.at(i).theta);
+    if (ji < (1.0 - rc_.margin) * j_keep && j_keep - ji > significant && ji < j_best) {
+      j_best = ji;
+      kind = Event::Decision::kMemory;
+      chosen = i;
+      base = mem.at(i).theta;
+    }
+  }
+  if (rc_.use_network) {
+    ++candidates;
+    const double jn = J(theta_net_);
+    if (jn < (1.0 - rc_.margin) * j_keep && j_keep - jn > significant && jn < j_best) {
+      j_best = jn;
+      kind = Event::Decision::kNetwork;
+      chosen = -1;
+      base = theta_net_;
+    }
+  }
+  // Fit what the data determines (ridge least squares around the chosen base): along the
+  // excited directions the data wins, elsewhere the base is kept.
+  Mat Gr = G;
+  const double lambda = rc_.ridge * std::max(G.trace(), 1e-300);
+  for (int i = 0; i < n; ++i) Gr(i, i) += lambda;
+  Vec delta = Gr.ldlt().solve(h - G * base);
+  Vec fitted = base + delta;
+  const double j_fit = J(fitted);
+  if (j_best - j_fit > significant) {
+    if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
+  } else {
+    fitted = base;
+  }
+  recalled_ = kind == Event::Decision::kMemory ? chosen : -1;
+  if (kind != Event::Decision::kKeep) {
+    *theta_hat = fitted;
+    if (projection_) clampToBall(theta_hat, theta_max_);
+    ev->reset = true;
+  }
+  ev->decision = kind;
+  ev->chosen = chosen;
+  ev->candidates = candidates;
+  const double norm = 1.0 / (std::sqrt(static_cast<double>(std::max(chunks, 1))) * Tc);
+  ev->score = std::sqrt(kind == Event::Decision::kKeep ? j_keep : J(*theta_hat)) * norm;
+  ev->score_keep = std::sqrt(j_keep) * norm;
+}
+
+void RobustPreadaptation::duringPhase(const Sample& s, double u, const Vec& theta_hat) {
+  (void)u;
+  (void)theta_hat;
+  phase_cost_ += std::abs(s.e) * dt_;
+}
+
+void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) {
+  (void)s;
+  ev->cost = phase_cost_;
+  Vec dir;
+  double ysum = 0.0;
+  windowSums(0, std::min(Ld_, count_), &dir, &ysum);
+  memory().remember(theta_hat, dir / (std::min(Ld_, count_) * dt_), rc_.merge_tolerance);
+  if (rc_.use_network && rc_.network_rate > 0.0) {
+    // Supervised: move the network's prediction at this onset's input towards the regime's
+    // settled estimate (E = |theta_I - theta_hat|^2 / 2, so dE/dtheta_I = theta_I - theta_hat).
+    Vec pred;
+    net_->forward(z_onset_, &pred);
+    ev->grad = pred - theta_hat;
+    net_->learn(z_onset_, ev->grad, rc_.network_rate);
+    ev->learned = true;
+  }
+}
+
+}  // namespace preadaptive_mrac
