@@ -182,6 +182,14 @@ std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const Sim
       j.raw(",").key("reset").raw(e.reset ? "true" : "false");
       if (e.reset) j.raw(",").key("theta_hat_reset").vec(e.theta_hat_after);
     }
+    if (e.decision != Event::Decision::kNone) {  // pa_robust: what verification chose
+      j.raw(",").key("decision").str(decisionName(e.decision));
+      j.raw(",").key("chosen").num(e.chosen);
+      j.raw(",").key("candidates").num(e.candidates);
+      j.raw(",").key("score").num(e.score);
+      j.raw(",").key("score_keep").num(e.score_keep);
+      j.raw(",").key("theta_hat_after").vec(e.theta_hat_after);
+    }
     if (e.type == Event::Type::kRecovered) {
       j.raw(",").key("cost").num(e.cost);
       j.raw(",").key("learned").raw(e.learned ? "true" : "false");
