@@ -82,7 +82,9 @@ RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
   c.verify_time = r.getDouble(p + ".verify_time");
   c.margin = r.getDouble(p + ".margin");
   c.significance = r.getDouble(p + ".significance");
+  c.prior_std = r.getDouble(p + ".prior_std");
   c.ridge = r.getDouble(p + ".ridge");
+  c.cl_gain = r.getDouble(p + ".cl_gain");
   c.memory_size = static_cast<int>(r.getInt(p + ".memory_size"));
   c.merge_tolerance = r.getDouble(p + ".merge_tolerance");
   c.settle_time = r.getDouble(p + ".settle_time");
@@ -109,7 +111,9 @@ void RobustConfig::validate(ParamReader& r, const std::string& p) const {
   range("verify_time", verify_time, 0.0, 10.0, true);
   range("margin", margin, 0.0, 1.0, false);
   range("significance", significance, 0.0, 1e6, false);
+  range("prior_std", prior_std, 0.0, 1e6, true);
   range("ridge", ridge, 0.0, 1e6, false);
+  range("cl_gain", cl_gain, 0.0, 1e6, false);
   range("memory_size", memory_size, 0.0, 1024.0, false);
   range("merge_tolerance", merge_tolerance, 0.0, 100.0, false);
   range("settle_time", settle_time, 0.0, 1e6, false);
@@ -487,6 +491,7 @@ StepOutput Controller::step(const StepInput& in) {
       theta_hat_ += dt_ * upd_;
     }
   }
+  if (strategy_->refine(&theta_hat_) && cfg_.projection) clampToBall(&theta_hat_, cfg_.theta_max);
   // Reference model (eq. refmodel), RK4 with r held over the sample.
   Vec xr_next;
   xr_next.noalias() = Phi_r_.lazyProduct(x_r_);

@@ -37,6 +37,9 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
   x_prev_.setZero(n);
   theta_keep_.setZero(n);
   theta_net_.setZero(n);
+  Gr_.setZero(n, n);
+  hr_.setZero(n);
+  prior_.setZero(n);
   net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
   reset();
 }
@@ -49,12 +52,16 @@ void RobustPreadaptation::reset() {
   rho_ = 0.0;
   dev_ = 0.0;
   dev_init_ = false;
+  noise_blocks_ = 0;
   last_trigger_k_ = -1000000000;
   verifying_ = false;
   post_start_k_ = verify_end_k_ = next_decision_k_ = regime_start_k_ = 0;
   quiet_ = 0;
   recalled_ = -1;
   phase_cost_ = 0.0;
+  regime_fit_ = false;
+  cr_ = 0.0;
+  next_chunk_k_ = 0;
 }
 
 RegimeMemory RobustPreadaptation::memory() {
@@ -108,23 +115,27 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   const double thr = triggerThreshold();
 
   // Noise level from the change of the residual between adjacent windows: a constant mismatch
-  // cancels, noise does not (E|delta| = 2 sigma / sqrt(pi)). Frozen around triggers.
-  if (k_ % Ld_ == 0 && count_ >= 2 * Ld_ && !verifying_ && std::abs(rho_) <= thr &&
-      k_ - last_trigger_k_ > 2 * Ld_) {
+  // cancels, noise does not (E|delta| = 2 sigma / sqrt(pi)). Each step is clipped at four
+  // times the estimate, so a switch barely moves it; paused while verifying.
+  if (k_ % Ld_ == 0 && count_ >= 2 * Ld_ && !verifying_) {
     Vec phi_p;
     double y_p = 0.0;
     windowSums(Ld_, Ld_, &phi_p, &y_p);
     const double delta = std::abs(rho_ - (y_p - theta_hat.dot(phi_p)) / Td);
-    const double beta = std::min(1.0, Td / rc_.noise_time);
+    // A running mean over the first blocks, then an exponential one over noise_time.
+    const double beta = std::max(1.0 / (noise_blocks_ + 1), std::min(1.0, Td / rc_.noise_time));
     if (!dev_init_) {
-      dev_ = std::min(delta, rc_.threshold);
+      dev_ = delta;
       dev_init_ = true;
     } else {
       dev_ += beta * (std::min(delta, std::max(4.0 * dev_, rc_.threshold)) - dev_);
     }
+    ++noise_blocks_;
   }
 
   if (verifying_) return k_ >= next_decision_k_ ? Detection::kDecision : Detection::kNone;
+  // No trigger before the noise level is known (kMinNoiseBlocks windows of data).
+  if (noise_blocks_ < kMinNoiseBlocks) return Detection::kNone;
   if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= Ld_) return Detection::kOnset;
   if (attention->phaseActive()) {
     quiet_ = std::abs(rho_) <= thr ? quiet_ + 1 : 0;
@@ -172,13 +183,18 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   z_onset_ << s.e, std::abs(s.e_dot);
   if (rc_.use_network) net_->forward(z_onset_, &theta_net_);
   last_trigger_k_ = k_;
+  regime_fit_ = false;
   verifying_ = true;
   verify_end_k_ = k_ + Lv_;
   next_decision_k_ = k_ + Lc_;
   quiet_ = 0;
   recalled_ = -1;
   phase_cost_ = 0.0;
-  decide(theta_hat, ev);
+  if (m >= Lc_) {
+    decide(theta_hat, ev);
+  } else {  // too little post-change data to decide on: the first decision comes with a chunk
+    next_decision_k_ = post_start_k_ + Lc_ - 1;
+  }
 }
 
 void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev) {
@@ -190,7 +206,52 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
     quiet_ = 0;
     regime_start_k_ = post_start_k_;
     if (recalled_ >= 0) memory().markUsed(recalled_);
+    // Concurrent learning from here on: the regime's data so far, then every new chunk.
+    regime_fit_ = rc_.cl_gain > 0.0;
+    Gr_.setZero();
+    hr_.setZero();
+    cr_ = 0.0;
+    const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, count_));
+    for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
+      const int len = std::min(Lc_, j0 + 1);
+      addChunk(&Gr_, &hr_, &cr_, j0 - len + 1, len);
+    }
+    prior_ = *theta_hat;
+    next_chunk_k_ = k_ + Lc_;
   }
+}
+
+void RobustPreadaptation::addChunk(Mat* G, Vec* h, double* c, int j0, int len) const {
+  Vec Phi;
+  double Y = 0.0;
+  windowSums(j0, len, &Phi, &Y);
+  G->noalias() += Phi * Phi.transpose();
+  *h += Y * Phi;
+  *c += Y * Y;
+}
+
+double RobustPreadaptation::chunkSigma() const {
+  // The noise of a chunk sum is endpoint noise, the same as of a detection-window sum; a floor
+  // of a tenth of the threshold keeps clean data from acting on round-off.
+  return std::max(noiseLevel() * Ld_ * dt_, 0.1 * rc_.threshold * Lc_ * dt_);
+}
+
+bool RobustPreadaptation::refine(Vec* theta_hat) {
+  if (!regime_fit_ || verifying_ || k_ < next_chunk_k_) return false;
+  next_chunk_k_ += Lc_;
+  addChunk(&Gr_, &hr_, &cr_, 0, Lc_);
+  // Bayesian least squares of the regime's data around the prior (the decision's estimate):
+  // excited directions follow the data, unexcited ones stay at the prior.
+  const double sigma = chunkSigma();
+  const int n = static_cast<int>(B_.size());
+  Mat Gl = Gr_;
+  const double lambda =
+      sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(Gr_.trace(), 0.0);
+  for (int i = 0; i < n; ++i) Gl(i, i) += lambda;
+  const Vec fit = prior_ + Gl.ldlt().solve(hr_ - Gr_ * prior_);
+  const double step = std::min(1.0, rc_.cl_gain * Lc_ * dt_);
+  *theta_hat += step * (fit - *theta_hat);
+  return true;
 }
 
 void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
@@ -202,24 +263,23 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   Vec h = Vec::Zero(n);
   double c = 0.0;
   int chunks = 0;
-  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
+  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_, ++chunks) {
     const int len = std::min(Lc_, j0 + 1);
-    Vec Phi;
-    double Y = 0.0;
-    windowSums(j0 - len + 1, len, &Phi, &Y);
-    G.noalias() += Phi * Phi.transpose();
-    h += Y * Phi;
-    c += Y * Y;
-    ++chunks;
+    addChunk(&G, &h, &c, j0 - len + 1, len);
   }
   auto J = [&](const Vec& th) { return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th)); };
-  // Noise of one chunk sum: the same as of one detection-window sum (endpoint noise), with a
-  // floor of a tenth of the threshold so that clean data does not act on round-off.
-  const double Tc = Lc_ * dt_;
-  const double sigma = std::max(noiseLevel() * Ld_ * dt_, 0.1 * rc_.threshold * Tc);
-  const double significant = rc_.significance * chunks * sigma * sigma;
+  const double sigma = chunkSigma();
+  const double z = std::sqrt(rc_.significance);  // in standard deviations
 
+  // A candidate beats keeping when its error is `margin` lower and the gain is beyond what
+  // noise explains: if keeping were right, J_keep - J_cand = -D + 2 sum d_i eps_i with
+  // d_i = (cand - keep)^T Phi_i and D = sum d_i^2, so noise alone gives 2 sigma sqrt(D).
   const double j_keep = J(theta_keep_);
+  auto beats = [&](const Vec& cand, double jc) {
+    const Vec d = cand - theta_keep_;
+    const double D = std::max(0.0, d.dot(G * d));
+    return jc < (1.0 - rc_.margin) * j_keep && j_keep - jc > z * 2.0 * sigma * std::sqrt(D);
+  };
   Event::Decision kind = Event::Decision::kKeep;
   int chosen = -1;
   double j_best = j_keep;
@@ -228,7 +288,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   int candidates = 1;
   for (int i = 0; i < mem.size(); ++i, ++candidates) {
     const double ji = J(mem.at(i).theta);
-    if (ji < (1.0 - rc_.margin) * j_keep && j_keep - ji > significant && ji < j_best) {
+    if (ji < j_best && beats(mem.at(i).theta, ji)) {
       j_best = ji;
       kind = Event::Decision::kMemory;
       chosen = i;
@@ -238,25 +298,34 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   if (rc_.use_network) {
     ++candidates;
     const double jn = J(theta_net_);
-    if (jn < (1.0 - rc_.margin) * j_keep && j_keep - jn > significant && jn < j_best) {
+    if (jn < j_best && beats(theta_net_, jn)) {
       j_best = jn;
       kind = Event::Decision::kNetwork;
       chosen = -1;
       base = theta_net_;
     }
   }
-  // Fit what the data determines (ridge least squares around the chosen base): along the
-  // excited directions the data wins, elsewhere the base is kept.
+  // Fit what the data determines (Bayesian least squares around the chosen base): excited
+  // directions follow the data, the others keep the base. Applied only when the gain is
+  // beyond noise (chi-square with n degrees of freedom, `significance` per parameter).
   Mat Gr = G;
-  const double lambda = rc_.ridge * std::max(G.trace(), 1e-300);
+  const double lambda =
+      sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(G.trace(), 0.0);
   for (int i = 0; i < n; ++i) Gr(i, i) += lambda;
-  Vec delta = Gr.ldlt().solve(h - G * base);
-  Vec fitted = base + delta;
+  Vec fitted = base + Gr.ldlt().solve(h - G * base);
   const double j_fit = J(fitted);
-  if (j_best - j_fit > significant) {
-    if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
-  } else {
-    fitted = base;
+  // A recalled candidate is already significantly better than keeping: its posterior is used
+  // as it is. Keeping is refined only by a significant fit, so that noise moves nothing.
+  // The test uses the total over the post-change data, whose noise is endpoint noise only
+  // (the sums telescope): mean mismatch beyond z standard deviations.
+  if (kind == Event::Decision::kKeep) {
+    Vec phi_tot;
+    double y_tot = 0.0;
+    windowSums(0, m, &phi_tot, &y_tot);
+    if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best)
+      kind = Event::Decision::kFit;
+    else
+      fitted = base;
   }
   recalled_ = kind == Event::Decision::kMemory ? chosen : -1;
   if (kind != Event::Decision::kKeep) {
@@ -267,6 +336,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   ev->decision = kind;
   ev->chosen = chosen;
   ev->candidates = candidates;
+  const double Tc = Lc_ * dt_;
   const double norm = 1.0 / (std::sqrt(static_cast<double>(std::max(chunks, 1))) * Tc);
   ev->score = std::sqrt(kind == Event::Decision::kKeep ? j_keep : J(*theta_hat)) * norm;
   ev->score_keep = std::sqrt(j_keep) * norm;

@@ -42,7 +42,9 @@ struct RobustConfig {
   double verify_time = 0.05;      ///< decisions are re-made on growing data for this long [s]
   double margin = 0.2;            ///< a candidate must score this fraction below keeping
   double significance = 9.0;      ///< improvements must exceed this many noise variances
-  double ridge = 1e-3;            ///< ridge of the fit, relative to the data's energy
+  double prior_std = 1.0;         ///< prior spread of theta around the chosen candidate
+  double ridge = 1e-6;            ///< floor of the fit's ridge, relative to the data's energy
+  double cl_gain = 2.0;           ///< concurrent learning: pull towards the regime's fit [1/s]
   int memory_size = 8;            ///< regimes remembered (least used dropped first)
   double merge_tolerance = 0.02;  ///< regimes closer than this on the visited states merge [rad]
   double settle_time = 1.0;       ///< a regime is banked only after lasting this long [s]

@@ -66,11 +66,12 @@ class PreadaptationStrategy {
   virtual void duringPhase(const Sample& s, double u, const Vec& theta_hat) = 0;
   /// \brief At a recovery: learn from the phase; fills cost, grad, learned.
   virtual void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) = 0;
-  /// \brief Every sample after the command and the adaptation law (identifiers use it).
-  virtual void afterStep(const Sample& s, double u, const Vec& theta_hat) {
-    (void)s;
-    (void)u;
+  /// \brief Every sample after the adaptation law: an identifier may refine theta_hat here
+  /// (concurrent learning). Returns true when it changed theta_hat (the controller then
+  /// projects it onto Omega when projection is on).
+  virtual bool refine(Vec* theta_hat) {
     (void)theta_hat;
+    return false;
   }
   /// \brief E = integral |e| dt of the current phase [rad s].
   virtual double phaseCost() const { return 0.0; }

@@ -28,6 +28,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   void duringPhase(const Sample& s, double u, const Vec& theta_hat) override;
   void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) override;
   double phaseCost() const override { return phase_cost_; }
+  bool refine(Vec* theta_hat) override;
 
   /// \brief Mean residual of theta_hat over the last detection window [rad].
   double residual() const { return rho_; }
@@ -43,6 +44,10 @@ class RobustPreadaptation : public PreadaptationStrategy {
   int at(int j) const;
   void windowSums(int j0, int len, Vec* phi, double* y) const;
   void decide(Vec* theta_hat, Event* ev);
+  /// Add the chunk of the last Lc samples to the regime's statistics.
+  void addChunk(Mat* G, Vec* h, double* c, int j0, int len) const;
+  /// Noise standard deviation of one chunk sum [rad s].
+  double chunkSigma() const;
   RegimeMemory memory();
 
   RobustConfig rc_;
@@ -63,6 +68,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
   // Detection.
   double rho_ = 0.0, dev_ = 0.0;
   bool dev_init_ = false;
+  int noise_blocks_ = 0;
+  static constexpr int kMinNoiseBlocks = 16;
   std::int64_t last_trigger_k_ = -1000000000;
   // Phase.
   bool verifying_ = false;
@@ -70,6 +77,13 @@ class RobustPreadaptation : public PreadaptationStrategy {
   int quiet_ = 0;
   Vec theta_keep_, theta_net_;
   NetInput z_onset_ = NetInput::Zero();
+  // The regime since the last decision: chunk statistics (sum Phi Phi^T, sum Phi Y) and the
+  // prior of the concurrent-learning fit.
+  bool regime_fit_ = false;
+  Mat Gr_;
+  Vec hr_, prior_;
+  double cr_ = 0.0;
+  std::int64_t next_chunk_k_ = 0;
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };
