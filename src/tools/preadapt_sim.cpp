@@ -14,7 +14,8 @@ using namespace preadaptive_mrac;
 
 namespace {
 const char* kUsage =
-    "usage: preadapt_sim --scenario <1|2|3|path.yaml> --mode <rac|pa|pa_learn|pa_learn_exact>\n"
+    "usage: preadapt_sim --scenario <1|2|3|path.yaml>\n"
+    "                    --mode <rac|pa|pa_learn|pa_learn_exact|pa_robust|oracle>\n"
     "                    [--seed N] [--dt S] [--set key=value]... [--csv out.csv] [--json]\n"
     "                    [--plant plant.yaml] [--controller controller.yaml]\n"
     "                    [--weights-in w.yaml] [--weights-out w.yaml]\n"
