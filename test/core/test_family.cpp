@@ -1,0 +1,119 @@
+// The recurring-regime scenario family and its report (docs/robust.md).
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "preadaptive_mrac/core/scenario_family.hpp"
+#include "preadaptive_mrac/io/setup.hpp"
+#include "preadaptive_mrac/io/yaml_params.hpp"
+
+using namespace preadaptive_mrac;
+
+TEST(Family, ShapeAndRecurrence) {
+  FamilySpec spec;
+  for (int k = 0; k < 50; ++k) {
+    const Scenario s = recurringScenario(spec, 11, k);
+    ASSERT_EQ(s.theta.size(), 1u + static_cast<size_t>(spec.segments));
+    EXPECT_DOUBLE_EQ(s.theta[0].until, spec.first_duration);
+    EXPECT_TRUE(s.theta[0].theta.isApprox(Eigen::VectorXd::Constant(3, 0.1)));
+    std::map<std::vector<double>, int> visits;
+    for (size_t i = 1; i < s.theta.size(); ++i) {
+      const auto& th = s.theta[i].theta;
+      const double d = s.theta[i].until - s.theta[i - 1].until;
+      EXPECT_GE(d, spec.min_duration - 1e-3);
+      EXPECT_LE(d, spec.max_duration + 1e-3);
+      EXPECT_FALSE(th == s.theta[i - 1].theta) << "a regime twice in a row";
+      EXPECT_GT(th.minCoeff(), spec.min_scale * (1.0 - spec.spread) - 1e-12);
+      EXPECT_LT(th.maxCoeff(), spec.max_scale * (1.0 + spec.spread) + 1e-12);
+      EXPECT_GT(th.maxCoeff() - th.minCoeff(), 0.0) << "components must differ";
+      ++visits[std::vector<double>(th.data(), th.data() + th.size())];
+    }
+    EXPECT_EQ(visits.size(), static_cast<size_t>(spec.regimes));
+    for (const auto& kv : visits) EXPECT_GE(kv.second, 2);
+    const auto rep = repeatedWindows(s);
+    int repeated = 0;
+    for (bool b : rep) repeated += b;
+    EXPECT_EQ(repeated, spec.segments - spec.regimes);
+  }
+}
+
+TEST(Family, DeterministicAndSeedDependent) {
+  FamilySpec spec;
+  const Scenario a = recurringScenario(spec, 5, 3), b = recurringScenario(spec, 5, 3);
+  const Scenario c = recurringScenario(spec, 6, 3), d = recurringScenario(spec, 5, 4);
+  EXPECT_EQ(scenarioToYaml(a), scenarioToYaml(b));
+  EXPECT_NE(scenarioToYaml(a), scenarioToYaml(c));
+  EXPECT_NE(scenarioToYaml(a), scenarioToYaml(d));
+}
+
+TEST(Family, YamlReadsBackExactly) {
+  FamilySpec spec;
+  spec.ref_every = 7.0;
+  const Scenario s = recurringScenario(spec, 3, 1);
+  ASSERT_GT(s.reference.size(), 2u);
+  const ParamValue tree = parseYaml(scenarioToYaml(s), "family");
+  ParamReader r(tree);
+  const Scenario back = Scenario::read(r, 3);
+  ASSERT_TRUE(r.ok()) << ConfigError(r.problems()).what();
+  ASSERT_EQ(back.theta.size(), s.theta.size());
+  for (size_t i = 0; i < s.theta.size(); ++i) {
+    EXPECT_EQ(back.theta[i].until, s.theta[i].until);
+    EXPECT_EQ(back.theta[i].theta, s.theta[i].theta);
+  }
+  ASSERT_EQ(back.reference.size(), s.reference.size());
+  for (size_t i = 0; i < s.reference.size(); ++i) EXPECT_EQ(back.reference[i].r, s.reference[i].r);
+}
+
+TEST(Family, SummaryCountsOnlyRepeatedWindows) {
+  // Two scenarios of 4 windows; windows 2 and 3 repeat in the first, only 3 in the second.
+  const std::vector<std::vector<bool>> repeated = {{false, false, true, true},
+                                                   {false, false, false, true}};
+  std::vector<RunDigest> rac(2), mode(2), oracle(2);
+  rac[0] = {{1, 1, 1, 1}, 10.0, 1.0};
+  rac[1] = {{1, 1, 1, 1}, 10.0, 1.0};
+  mode[0] = {{1, 9, 0.4, 0.8}, 10.6, 3.0};   // ratios 0.4 (halved) and 0.8; window 1 ignored
+  mode[1] = {{1, 0.1, 0.1, 2.0}, 5.0, 2.0};  // ratio 2.0
+  oracle[0] = {{1, 0, 0, 0}, 1.0, 2.5};
+  oracle[1] = {{1, 0, 0, 0}, 1.0, 2.5};
+  const FamilySummary s = summarizeFamily(repeated, rac, mode, &oracle);
+  EXPECT_EQ(s.windows, 3);
+  EXPECT_DOUBLE_EQ(s.frac_better, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.frac_halved, 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.median_ratio, 0.8);
+  EXPECT_DOUBLE_EQ(s.worst_ratio, 2.0);
+  EXPECT_DOUBLE_EQ(s.all_worst_ratio, 9.0);
+  EXPECT_DOUBLE_EQ(s.worst_iae_ratio, 1.06);
+  EXPECT_EQ(s.iae_over, 1);
+  EXPECT_DOUBLE_EQ(s.worst_u_rac, 3.0);
+  EXPECT_DOUBLE_EQ(s.worst_u_oracle, 1.2);
+}
+
+#ifdef PMRAC_FAMILY_BIN
+#include <cstdio>
+#include <string>
+
+namespace {
+int runTool(const std::string& args, std::string* out) {
+  FILE* p = popen((std::string(PMRAC_FAMILY_BIN) + " " + args + " 2>&1").c_str(), "r");
+  char buf[4096];
+  out->clear();
+  while (fgets(buf, sizeof buf, p)) *out += buf;
+  const int st = pclose(p);
+  return WEXITSTATUS(st);
+}
+}  // namespace
+
+TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
+  std::string out;
+  ASSERT_EQ(runTool("--seed 3 --count 2 --modes pa_robust,oracle --json --jobs 2", &out), 0) << out;
+  // rac is added as the yardstick; every mode gets a table row and a JSON line.
+  for (const char* m : {"\nrac ", "\npa_robust ", "\noracle ", "\"mode\":\"pa_robust\""})
+    EXPECT_NE(out.find(m), std::string::npos) << m << "\n" << out;
+  EXPECT_EQ(runTool("--count 2", &out), 2);
+  EXPECT_NE(out.find("--seed is required"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --modes rac,nope", &out), 2);
+  EXPECT_NE(out.find("unknown mode 'nope'"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --set controller.robust.margin=2", &out), 2);
+  EXPECT_NE(out.find("controller.robust.margin"), std::string::npos) << out;
+}
+#endif
