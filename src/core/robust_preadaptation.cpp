@@ -314,18 +314,17 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   for (int i = 0; i < n; ++i) Gr(i, i) += lambda;
   Vec fitted = base + Gr.ldlt().solve(h - G * base);
   const double j_fit = J(fitted);
-  // A recalled candidate is already significantly better than keeping: its posterior is used
-  // as it is. Keeping is refined only by a significant fit, so that noise moves nothing.
-  // The test uses the total over the post-change data, whose noise is endpoint noise only
-  // (the sums telescope): mean mismatch beyond z standard deviations.
-  if (kind == Event::Decision::kKeep) {
-    Vec phi_tot;
-    double y_tot = 0.0;
-    windowSums(0, m, &phi_tot, &y_tot);
-    if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best)
-      kind = Event::Decision::kFit;
-    else
-      fitted = base;
+  // The fit moves the base only when the base's mean mismatch over all post-change data,
+  // |sum Y - base^T sum Phi|, is beyond z standard deviations: the total's noise is endpoint
+  // noise only (the sums telescope). So noise moves nothing, and a recalled regime that
+  // explains the data is used as remembered.
+  Vec phi_tot;
+  double y_tot = 0.0;
+  windowSums(0, m, &phi_tot, &y_tot);
+  if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best) {
+    if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
+  } else {
+    fitted = base;
   }
   recalled_ = kind == Event::Decision::kMemory ? chosen : -1;
   if (kind != Event::Decision::kKeep) {
