@@ -95,6 +95,33 @@ EOF
 FAKE_LOG=$W/rlexception.log FAKE_RC=1 expect "roslaunch fails after a required node died: exit 2" 2 \
   'roslaunch exited with code 1'
 
+# 4b. ... and leaves the master and nodes it started running: they are stopped (found by the
+# run id in their __log:= argument, since this roslaunch started its own master).
+RUN=0000abcd-e6d8-11f1-a993-02fc00000001
+python3 -c 'import time; time.sleep(120)' "__log:=$W/logs/$RUN/master.log" &
+LEFTOVER=$!
+disown "$LEFTOVER"
+{ echo "auto-starting new master"; echo "setting /run_id to $RUN"; cat "$W/rlexception.log"; } \
+  >"$W/leftover.log"
+FAKE_LOG=$W/leftover.log FAKE_RC=1 expect "roslaunch leaves its master behind: stopped" 2 \
+  "left 1 process\(es\) of its run behind \(pids $LEFTOVER\): stopped"
+if kill -0 "$LEFTOVER" 2>/dev/null; then
+  echo "FAIL: the leftover process $LEFTOVER is still running"; FAIL=$((FAIL + 1)); kill "$LEFTOVER"
+else
+  echo "PASS: the leftover process is gone"; PASS=$((PASS + 1))
+fi
+# A roslaunch that used a master it did not start leaves that master's processes alone.
+python3 -c 'import time; time.sleep(120)' "__log:=$W/logs/$RUN/master.log" &
+OTHER=$!
+disown "$OTHER"
+{ echo "setting /run_id to $RUN"; cat "$W/rlexception.log"; } >"$W/external.log"
+FAKE_LOG=$W/external.log FAKE_RC=1 expect "an external master's processes are left alone" 2 ""
+if kill -0 "$OTHER" 2>/dev/null; then
+  echo "PASS: the external master's process still runs"; PASS=$((PASS + 1)); kill "$OTHER"
+else
+  echo "FAIL: a process of an external master was stopped"; FAIL=$((FAIL + 1))
+fi
+
 # 5. output="log": the FATAL lines are only in the node's own log file.
 mkdir -p "$L"
 printf '[FATAL] [1795395366.5]:   /plant_sim/scenario/theta/0/until: missing (required)\n' \
