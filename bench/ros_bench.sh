@@ -35,9 +35,12 @@ echo "# work dir $WORK; load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 
 # --- 1. lockstep scenario 3 with recording
 start=$(date +%s.%N)
-roslaunch -p "$PORT" preadaptive_mrac scenario.launch scenario:=3 mode:="$MODE" clock:=lockstep \
-  record:=true bag_dir:="$WORK/bags" latency_report:="$WORK/lockstep.json" output:=log \
-  > "$WORK/lockstep.log" 2>&1
+# roslaunch exits 0 even when a node died with an error: launch_checked tells (and names the
+# refused keys), and checks the plant's report says the run completed.
+"$ROOT/scripts/lib/launch_checked" --log "$WORK/lockstep.log" --quiet \
+  --expect-report "$WORK/lockstep.json" -- \
+  -p "$PORT" preadaptive_mrac scenario.launch scenario:=3 mode:="$MODE" clock:=lockstep \
+  record:=true bag_dir:="$WORK/bags" latency_report:="$WORK/lockstep.json" output:=log
 end=$(date +%s.%N)
 total_lock=$(echo "$end - $start" | bc)
 bag=$(ls "$WORK"/bags/*.bag)
@@ -49,8 +52,10 @@ fi
 load_lock=$(cut -d' ' -f1 /proc/loadavg)
 
 # --- 2. realtime 1 kHz, scenario 1 (60 s)
-roslaunch -p "$PORT" preadaptive_mrac scenario.launch scenario:=1 mode:="$MODE" clock:=realtime \
-  rate:=1000 latency_report:="$WORK/realtime.json" output:=log > "$WORK/realtime.log" 2>&1
+"$ROOT/scripts/lib/launch_checked" --log "$WORK/realtime.log" --quiet \
+  --expect-report "$WORK/realtime.json" -- \
+  -p "$PORT" preadaptive_mrac scenario.launch scenario:=1 mode:="$MODE" clock:=realtime \
+  rate:=1000 latency_report:="$WORK/realtime.json" output:=log
 load_rt=$(cut -d' ' -f1 /proc/loadavg)
 
 L="$WORK/lockstep.json"

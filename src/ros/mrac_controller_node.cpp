@@ -99,12 +99,14 @@ bool MracControllerNode::waitForSubscribers() {
     if (enough()) return true;
     if (timeout > 0.0 && ros::WallTime::now().toSec() - start > timeout) {
       ROS_ERROR(
-          "after %.1f s: %u subscriber(s) on %s (wanted %d, ~min_command_subscribers), "
-          "%u on %s and %u on %s (wanted %d, ~min_status_subscribers); giving up",
+          "no plant after %.1f s (~start_timeout): %u subscriber(s) on %s (wanted %d, "
+          "~min_command_subscribers: the plant and recorders), %u on %s and %u on %s (wanted "
+          "%d, ~min_status_subscribers); a plant that refuses its parameters exits with code 2 "
+          "naming each key (see its output); giving up (exit code %d)",
           timeout, cmd_pub_.getNumSubscribers(), cmd_pub_.getTopic().c_str(),
           params_.min_command_subscribers, status_pub_.getNumSubscribers(),
           status_pub_.getTopic().c_str(), attention_pub_.getNumSubscribers(),
-          attention_pub_.getTopic().c_str(), params_.min_status_subscribers);
+          attention_pub_.getTopic().c_str(), params_.min_status_subscribers, kExitRuntimeError);
       return false;
     }
     // Connections are made by roscpp's own threads; poll them in short bounded waits.

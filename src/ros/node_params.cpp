@@ -109,6 +109,7 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   requireRange(r, "cmd_timeout", p.cmd_timeout, 0.0, 1e6, true);
   p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
+  p.linger = r.getBool("linger", p.linger);
   rejectUnknownTopLevel(tree, r,
                         {"plant",
                          "controller",
@@ -133,7 +134,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                          "recorder_progress_topic",
                          "max_recorder_lag",
                          "cmd_timeout",
-                         "diagnostic_period"});
+                         "diagnostic_period",
+                         "linger"});
 
   std::vector<std::string> problems = r.problems();
   try {

@@ -165,24 +165,45 @@ bool PlantSimNode::waitForSubscribers() {
   ROS_INFO("waiting for %d subscriber(s) on %s and %d on %s (timeout %s)",
            params_.min_state_subscribers, state_pub_.getTopic().c_str(),
            params_.min_truth_subscribers, truth_pub_.getTopic().c_str(),
-           timeout > 0.0 ? (std::to_string(timeout) + " s").c_str() : "none");
+           timeout > 0.0 ? (std::to_string(timeout) + " s, ~start_timeout").c_str() : "none");
+  bool warned = false;
   while (ros::ok()) {
     if (static_cast<int>(state_pub_.getNumSubscribers()) >= params_.min_state_subscribers &&
         static_cast<int>(truth_pub_.getNumSubscribers()) >= params_.min_truth_subscribers)
       return true;
-    if (timeout > 0.0 && wallNow() - start > timeout) {
-      ROS_ERROR(
-          "only %u subscriber(s) on %s and %u on %s after %.1f s (wanted %d and %d: "
-          "~min_state_subscribers, ~min_truth_subscribers); giving up",
-          state_pub_.getNumSubscribers(), state_pub_.getTopic().c_str(),
-          truth_pub_.getNumSubscribers(), truth_pub_.getTopic().c_str(), timeout,
-          params_.min_state_subscribers, params_.min_truth_subscribers);
+    const double waited = wallNow() - start;
+    if (timeout > 0.0 && !warned && waited > 0.5 * timeout) {
+      warned = true;
+      ROS_WARN("still waiting for subscribers after %.1f s: %s (giving up after %.1f s)", waited,
+               missingPeers().c_str(), timeout);
+    }
+    if (timeout > 0.0 && waited > timeout) {
+      ROS_ERROR("no controller after %.1f s (~start_timeout): %s; giving up (exit code %d)",
+                timeout, missingPeers().c_str(), kExitRuntimeError);
       return false;
     }
     // Connections are made by roscpp's own threads; poll them in short bounded waits.
     ros::WallDuration(0.002).sleep();
   }
   return false;
+}
+
+std::string PlantSimNode::missingPeers() const {
+  std::string s = std::to_string(state_pub_.getNumSubscribers()) + " of " +
+                  std::to_string(params_.min_state_subscribers) + " subscriber(s) on " +
+                  state_pub_.getTopic() +
+                  " (~min_state_subscribers: the controller, recorders and watchers), " +
+                  std::to_string(truth_pub_.getNumSubscribers()) + " of " +
+                  std::to_string(params_.min_truth_subscribers) + " on " + truth_pub_.getTopic();
+  if (cmd_sub_.getNumPublishers() == 0) {
+    s += "; no node publishes " + cmd_sub_.getTopic() +
+         ": the controller is not running (one that refuses its parameters exits with code 2 "
+         "naming each key: see its output)";
+  } else {
+    s += "; a controller publishes " + cmd_sub_.getTopic() +
+         " but has not subscribed (it waits for its own subscribers first, e.g. a recorder)";
+  }
+  return s;
 }
 
 void PlantSimNode::publishSample(const ros::Time& stamp) {
@@ -286,9 +307,13 @@ int PlantSimNode::runLockstep() {
       if (now >= deadline) {
         ROS_ERROR(
             "no command for step %llu (t = %.6f s) on %s within %.3f s "
-            "(~command_timeout); stopping",
+            "(~command_timeout): %s; stopping (exit code %d)",
             static_cast<unsigned long long>(k), sim_.time(), cmd_sub_.getTopic().c_str(),
-            params_.command_timeout);
+            params_.command_timeout,
+            cmd_sub_.getNumPublishers() == 0
+                ? "no node publishes it: no controller (or it has gone)"
+                : "the controller is connected but did not answer",
+            kExitRuntimeError);
         finish(false);
         return kExitRuntimeError;
       }
@@ -314,7 +339,21 @@ int PlantSimNode::runLockstep() {
     return kExitRuntimeError;
   }
   finish(sim_.done());
+  linger();
   return 0;
+}
+
+void PlantSimNode::linger() {
+  if (!params_.linger || !completed_ || !ros::ok()) return;
+  // Leave every topic (a run monitor sees the plant go, as if it had exited) but stay alive,
+  // so that a launch file can mark this node required without its normal end ending the launch.
+  state_pub_.shutdown();
+  truth_pub_.shutdown();
+  clock_pub_.shutdown();
+  cmd_sub_.shutdown();
+  progress_sub_.shutdown();
+  ROS_INFO("plant_sim: run complete, topics closed; staying alive until shut down (~linger)");
+  while (ros::ok()) ros::WallDuration(0.05).sleep();
 }
 
 int PlantSimNode::runRealtime() {
@@ -327,6 +366,10 @@ int PlantSimNode::runRealtime() {
   wall_start_ = wallNow();
   auto next = Clock::now();
   publishSample(ros::Time(ros::WallTime::now().toSec()));
+  // A controller that subscribed and then died (or never answers) would leave the plant
+  // holding trim through the whole scenario: give up unless one valid command arrives.
+  const double first_cmd_deadline =
+      params_.start_timeout > 0.0 ? wall_start_ + params_.start_timeout : 0.0;
   while (ros::ok()) {
     next += period;
     std::this_thread::sleep_until(next);
@@ -335,6 +378,17 @@ int PlantSimNode::runRealtime() {
     double u = 0.0;
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      if (!have_cmd_ && first_cmd_deadline > 0.0 && wallNow() > first_cmd_deadline) {
+        ROS_ERROR(
+            "no valid command on %s within %.1f s of the first state (~start_timeout): %s; "
+            "giving up (exit code %d)",
+            cmd_sub_.getTopic().c_str(), params_.start_timeout,
+            cmd_sub_.getNumPublishers() == 0
+                ? "no node publishes it: no controller (or it has gone)"
+                : "the controller is connected but does not answer",
+            kExitRuntimeError);
+        break;
+      }
       if (!have_cmd_ || cmd_step_ != static_cast<std::uint64_t>(sim_.step())) ++stale_steps_;
       // Zero-order hold on the latest valid command while it is fresh; without one (none
       // yet, the controller gone, or only rejected ones) hold trim rather than an old u.
@@ -358,7 +412,17 @@ int PlantSimNode::runRealtime() {
     const ros::WallTime now = ros::WallTime::now();
     publishSample(ros::Time(now.sec, now.nsec));
   }
+  bool gave_up = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    gave_up = !have_cmd_ && ros::ok() && !sim_.done();
+  }
   finish(sim_.done());
+  if (gave_up) {
+    spinner.stop();
+    return kExitRuntimeError;
+  }
+  linger();
   spinner.stop();
   return 0;
 }

@@ -46,6 +46,10 @@ struct Recorded {
   std::vector<pm::AttentionEvent> events;
   std::int64_t truth_count = 0;
   bool sized = false;
+  // Commands and statuses that arrive before the first state (which gives the size) come over
+  // other connections and can overtake it on a loaded machine: kept, replayed by size().
+  std::vector<pm::ElevatorCommand> early_cmds;
+  std::vector<pm::AdaptationStatus> early_status;
   void size(std::uint64_t n) {
     if (sized) return;
     total = n;
@@ -58,6 +62,29 @@ struct Recorded {
     cmd_seen.assign(n, 0);
     status_seen.assign(n, 0);
     sized = true;
+    for (const auto& c : early_cmds) addCmd(c);
+    for (const auto& st : early_status) addStatus(st);
+    early_cmds.clear();
+    early_status.clear();
+  }
+  void addCmd(const pm::ElevatorCommand& m) {
+    if (!sized) {
+      early_cmds.push_back(m);
+      return;
+    }
+    if (m.step >= total) return;
+    u[m.step] = m.u;
+    cmd_seen[m.step]++;
+  }
+  void addStatus(const pm::AdaptationStatus& m) {
+    if (!sized) {
+      early_status.push_back(m);
+      return;
+    }
+    if (m.step >= total) return;
+    theta_hat[m.step] = m.theta_hat;
+    e[m.step] = m.e;
+    status_seen[m.step]++;
   }
 };
 
@@ -142,19 +169,14 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
       "controller/elevator_cmd", 0,
       [&rec](const pm::ElevatorCommand::ConstPtr& m) {
         std::lock_guard<std::mutex> l(rec.m);
-        if (!rec.sized || m->step >= rec.total) return;
-        rec.u[m->step] = m->u;
-        rec.cmd_seen[m->step]++;
+        rec.addCmd(*m);
       },
       ros::VoidConstPtr(), hints);
   ros::Subscriber s3 = nh.subscribe<pm::AdaptationStatus>(
       "controller/status", 0,
       [&rec](const pm::AdaptationStatus::ConstPtr& m) {
         std::lock_guard<std::mutex> l(rec.m);
-        if (!rec.sized || m->step >= rec.total) return;
-        rec.theta_hat[m->step] = m->theta_hat;
-        rec.e[m->step] = m->e;
-        rec.status_seen[m->step]++;
+        rec.addStatus(*m);
       },
       ros::VoidConstPtr(), hints);
   ros::Subscriber s4 = nh.subscribe<pm::AttentionEvent>(

@@ -201,6 +201,29 @@ TEST(PlantNodeParams, CommandTimeoutReadAndChecked) {
   EXPECT_TRUE(anyContains(probs, "/plant_sim/diagnostic_period")) << joined(probs);
 }
 
+// Issue 10: a short start-up timeout by default (a launch with a dead controller must end
+// within seconds, not a minute) and ~linger (compare.launch marks its plants required).
+TEST(PlantNodeParams, StartTimeoutAndLinger) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  const auto d = pm::ros1::readPlantNodeParams(tree, style("/plant_sim"));
+  EXPECT_DOUBLE_EQ(d.start_timeout, 15.0);
+  EXPECT_FALSE(d.linger);
+  tree.setPath("linger", pm::ParamValue::makeBool(true));
+  tree.setPath("start_timeout", pm::ParamValue::makeDouble(3.0));
+  const auto p = pm::ros1::readPlantNodeParams(tree, style("/plant_sim"));
+  EXPECT_TRUE(p.linger);
+  EXPECT_DOUBLE_EQ(p.start_timeout, 3.0);
+  tree.setPath("linger", pm::ParamValue::makeString("yes"));
+  tree.setPath("start_timeout", pm::ParamValue::makeDouble(-1.0));
+  const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/linger")) << joined(probs);
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/start_timeout")) << joined(probs);
+  EXPECT_FALSE(anyContains(probs, "unknown parameter")) << joined(probs);
+  pm::ParamValue ctl = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  EXPECT_DOUBLE_EQ(pm::ros1::readControllerNodeParams(ctl, style("/mrac_controller")).start_timeout,
+                   15.0);
+}
+
 TEST(LatencyStats, NearestRankPercentiles) {
   std::vector<double> v;
   for (int i = 100; i >= 1; --i) v.push_back(static_cast<double>(i));

@@ -35,7 +35,9 @@ struct PlantNodeParams {
   int tf_decimation = 10;                   ///< ~tf_decimation: tf every N steps (>= 1)
   int min_state_subscribers = 1;            ///< ~min_state_subscribers: wait for them before step 0
   int min_truth_subscribers = 0;            ///< ~min_truth_subscribers: wait for them before step 0
-  double start_timeout = 60.0;    ///< ~start_timeout: wall time to wait for them [s]; 0 = forever
+  /// ~start_timeout: wall time [s] to wait for those subscribers (the controller) and, in
+  /// realtime, for the first valid command after the first state; then exit 3. 0 = forever.
+  double start_timeout = 15.0;
   double command_timeout = 10.0;  ///< ~command_timeout: lockstep wait for one command [s] (> 0)
   double resend_interval = 1.0;   ///< ~resend_interval: lockstep re-publishes an unanswered
                                   ///< state after this wall time [s]; 0 = never
@@ -50,6 +52,10 @@ struct PlantNodeParams {
   /// the plant holds trim (u = 0) until one arrives; (0, 1e6]. Lockstep waits instead.
   double cmd_timeout = 0.05;
   double diagnostic_period = 1.0;  ///< ~diagnostic_period: read by diagnostic_updater [s]
+  /// ~linger: after a completed run, unadvertise every topic and stay alive (idle) until shut
+  /// down, instead of exiting 0. Lets a launch file mark the plant required (a failing plant
+  /// ends the launch) where its normal end must not (compare.launch: two plants).
+  bool linger = false;
 };
 
 /// \brief Everything mrac_controller_node reads from `~`.
@@ -60,7 +66,7 @@ struct ControllerNodeParams {
   bool save_every_episode = true;   ///< ~save_every_episode: save after each learning episode
   int min_command_subscribers = 1;  ///< ~min_command_subscribers: wait before taking states
   int min_status_subscribers = 0;   ///< ~min_status_subscribers: same for status and attention
-  double start_timeout = 60.0;      ///< ~start_timeout: wall time to wait for them [s]; 0 = forever
+  double start_timeout = 15.0;      ///< ~start_timeout: wall time to wait for them [s]; 0 = forever
   int truth_buffer = 10000;         ///< ~truth_buffer: max states waiting for their truth (>= 1)
   /// ~stale_policy: baseline_hold | zero, the command answering a rejected state (NaN, Inf,
   /// wrong size): the LQR baseline of the last valid state, or 0.

@@ -38,7 +38,10 @@ class PlantSimNode {
   PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& params);
 
   /// \brief Run the scenario to its end (or until shutdown). Returns the process exit code:
-  /// 0 on completion or interruption, kExitRuntimeError on a start or command timeout.
+  /// 0 on completion or interruption, kExitRuntimeError on a start or command timeout (no
+  /// controller subscribed within ~start_timeout; lockstep: no command within
+  /// ~command_timeout; realtime: no valid command within ~start_timeout of the first state).
+  /// With ~linger, a completed run closes its topics and returns only at shutdown.
   int run();
 
   /// \brief The report of the run so far (latency, missed steps, wall time).
@@ -50,7 +53,13 @@ class PlantSimNode {
   /// \brief Lockstep back-pressure: wait (bounded by ~command_timeout) until the recorder has
   /// written state `step` - `lag`. False on timeout or shutdown.
   bool waitForRecorder(std::uint64_t step, std::uint64_t lag);
+  /// \brief Wait (bounded by ~start_timeout) for the subscribers of ~min_state_subscribers and
+  /// ~min_truth_subscribers. False on timeout (logged, naming what is missing) or shutdown.
   bool waitForSubscribers();
+  /// \brief What the start-up wait lacks: subscriber counts, and whether a controller exists.
+  std::string missingPeers() const;
+  /// \brief With ~linger after a completed run: close every topic, then idle until shutdown.
+  void linger();
   int runLockstep();
   int runRealtime();
   /// \brief Publish truth then state of the current step, and tf every ~tf_decimation steps.
