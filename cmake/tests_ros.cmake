@@ -10,7 +10,9 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_ros_node_params PRIVATE
     PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
 
-  # Lockstep against the batch CLI, one registration per mode (same .test, different args).
+  # Lockstep against the batch CLI, one registration per mode (same .test, different args):
+  # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle
+  # yardstick (like pa_learn_exact, it needs plant/truth).
   add_executable(test_ros_lockstep test/ros/lockstep_equivalence_test.cpp)
   target_link_libraries(test_ros_lockstep preadaptive_mrac_ros ${GTEST_LIBRARIES} yaml-cpp)
   target_include_directories(test_ros_lockstep SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
@@ -21,7 +23,7 @@ if(CATKIN_ENABLE_TESTING)
   if(TARGET tests)
     add_dependencies(tests test_ros_lockstep)
   endif()
-  foreach(mode rac pa_learn pa_learn_exact)
+  foreach(mode rac pa_learn pa_learn_exact pa_robust oracle)
     add_rostest(test/ros/lockstep.test ARGS mode:=${mode}
       DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node preadapt_sim)
   endforeach()

@@ -18,13 +18,19 @@ import warnings
 
 import numpy as np
 
-EVENT_TYPES = ('onset', 'recovered', 'ignored_onset', 'ignored_recovery')
-MODES = ('pa_learn_exact', 'pa_learn', 'pa', 'rac')  # longest first, for name matching
+# AttentionEvent.type 0..4 by name; 'decision' is pa_robust's re-decision inside a phase.
+EVENT_TYPES = ('onset', 'recovered', 'ignored_onset', 'ignored_recovery', 'decision')
+# What a pa_robust verification chose (AttentionEvent.decision / decision_code 1..4).
+DECISIONS = ('keep', 'fit', 'memory', 'network')
+DECISION_FIELDS = ('decision', 'chosen', 'candidates', 'score', 'score_keep')
+MODES = ('pa_learn_exact', 'pa_learn', 'pa_robust', 'oracle', 'pa', 'rac')
 MODE_TEXT = {
     'rac': 'regular adaptive control',
     'pa': 'preadaptation, no learning',
     'pa_learn': 'preadaptation + learning (approx. gradient)',
     'pa_learn_exact': 'preadaptation + learning (exact gradient)',
+    'pa_robust': 'robust preadaptation (residual trigger, regime memory, verification)',
+    'oracle': 'oracle yardstick: theta_hat := true theta at each switch',
 }
 
 # Relative topic names and message type base names the nodes publish (msg/*.msg).
@@ -67,7 +73,9 @@ class Run:
       t_u, u, u_bl, u_ad (u_bl/u_ad may be None)     elevator command
     events: list of dicts with keys type (one of EVENT_TYPES), t, e, e_dot,
       theta_hat_before, theta_hat_after, reset, cost, grad, learned, episodes (None where
-      the source does not say).
+      the source does not say), and pa_robust's verification: decision (one of DECISIONS,
+      None when the event carries none: every event of the other modes, and of bags
+      recorded before the field existed), chosen, candidates, score, score_keep.
     """
 
     def __init__(self, label, source, namespace=''):
@@ -103,8 +111,10 @@ def _guess_mode(name):
     more than one is named."""
     s = os.path.splitext(os.path.basename(name))[0].lower().replace('-', '_')
     s = s.replace('pa_learn_exact', ' PALE ').replace('pa_learn', ' PAL ')
+    s = s.replace('pa_robust', ' PAR ')
     toks = set(re.split(r'[^A-Za-z0-9]+', s))
-    found = [m for tok, m in (('PALE', 'pa_learn_exact'), ('PAL', 'pa_learn'), ('pa', 'pa'),
+    found = [m for tok, m in (('PALE', 'pa_learn_exact'), ('PAL', 'pa_learn'),
+                              ('PAR', 'pa_robust'), ('oracle', 'oracle'), ('pa', 'pa'),
                               ('rac', 'rac')) if tok in toks]
     return found[0] if len(found) == 1 else None
 
@@ -221,6 +231,34 @@ def _msg_times(pairs, name, run, dt=None):
     return t
 
 
+def _no_decision():
+    return {k: None for k in DECISION_FIELDS}
+
+
+def _msg_decision(m):
+    """pa_robust's verification fields of an AttentionEvent; all None when it carries none
+    (decision '' / DECISION_NONE) or was recorded before the fields existed."""
+    name = getattr(m, 'decision', '') or ''
+    if not name:
+        code = int(getattr(m, 'decision_code', 0) or 0)
+        name = DECISIONS[code - 1] if 1 <= code <= len(DECISIONS) else ''
+    if not name:
+        return _no_decision()
+    return {'decision': name, 'chosen': int(getattr(m, 'chosen', -1)),
+            'candidates': int(getattr(m, 'candidates', 0)),
+            'score': float(getattr(m, 'score', 0.0)),
+            'score_keep': float(getattr(m, 'score_keep', 0.0))}
+
+
+def _json_decision(ev):
+    """The same from an event of the batch CLI's --json summary."""
+    if not ev.get('decision'):
+        return _no_decision()
+    return {'decision': ev['decision'], 'chosen': ev.get('chosen'),
+            'candidates': ev.get('candidates'), 'score': ev.get('score'),
+            'score_keep': ev.get('score_keep')}
+
+
 def _fill_from_bag(run, acc, path):
     ns = run.namespace
     for k in REQUIRED:
@@ -273,13 +311,15 @@ def _fill_from_bag(run, acc, path):
     for (m, bt), t in zip(att, t_att):
         tname = m.type_name if m.type_name in EVENT_TYPES else (
             EVENT_TYPES[m.type] if m.type < len(EVENT_TYPES) else 'type%d' % m.type)
-        run.events.append({
+        ev = {
             'type': tname, 't': float(t), 'e': m.e, 'e_dot': m.e_dot_est,
             'theta_hat_before': list(m.theta_hat_before) or None,
             'theta_hat_after': list(m.theta_hat_after) or None,
             'reset': bool(m.reset), 'cost': m.cost if tname == 'recovered' else None,
             'grad': list(m.grad) or None, 'learned': bool(m.learned),
-            'episodes': int(m.episodes)})
+            'episodes': int(m.episodes)}
+        ev.update(_msg_decision(m))
+        run.events.append(ev)
         run.episodes = max(run.episodes or 0, int(m.episodes))
     if not acc['attention']:
         run.notes.append('no %s/controller/attention messages: no attention events' % ns)
@@ -375,24 +415,36 @@ def _load_csv(path):
             if tname not in EVENT_TYPES or 't' not in ev:
                 raise InputError(json_path, 'event without a known type or t: %s' % json.dumps(ev))
             after = ev.get('theta_hat_reset', ev.get('theta_hat_after'))
-            run.events.append({
+            dec = _json_decision(ev)
+            if 'reset' in ev:
+                reset = bool(ev['reset'])
+            elif dec['decision'] is not None:  # a DECISION moves theta_hat unless it keeps
+                reset = dec['decision'] != 'keep'
+            else:
+                reset = after is not None
+            d = {
                 'type': tname, 't': float(ev['t']), 'e': ev.get('e'), 'e_dot': ev.get('e_dot'),
                 'theta_hat_before': ev.get('theta_hat_before'), 'theta_hat_after': after,
-                'reset': bool(ev.get('reset', after is not None)),
+                'reset': reset,
                 'cost': ev.get('cost') if tname == 'recovered' else None,
                 'grad': ev.get('grad'), 'learned': ev.get('learned'),
-                'episodes': ev.get('episodes')})
+                'episodes': ev.get('episodes')}
+            d.update(dec)
+            run.events.append(d)
         run.notes.append('events from %s' % os.path.basename(json_path))
     elif 'phase' in col:
         ph = col['phase'] > 0.5
         for i in np.nonzero(ph[1:] != ph[:-1])[0] + 1:
-            run.events.append({
+            d = {
                 'type': 'onset' if ph[i] else 'recovered', 't': float(t[i]), 'e': float(run.e[i]),
                 'e_dot': float(run.e_dot[i]) if run.e_dot is not None else None,
                 'theta_hat_before': None, 'theta_hat_after': None, 'reset': None,
-                'cost': None, 'grad': None, 'learned': None, 'episodes': None})
+                'cost': None, 'grad': None, 'learned': None, 'episodes': None}
+            d.update(_no_decision())
+            run.events.append(d)
         run.notes.append('events from the phase column (no %s): onsets and recoveries only, '
-                         'ignored events and costs unknown' % os.path.basename(json_path))
+                         'ignored events, decisions and costs unknown' %
+                         os.path.basename(json_path))
     else:
         run.notes.append('no %s and no phase column: no attention events' %
                          os.path.basename(json_path))
@@ -518,9 +570,11 @@ def run_metrics(run):
             'onsets': len(ons), 'recoveries': len(rec),
             'ignored_onsets': sum(1 for ev in evs if ev['type'] == 'ignored_onset'),
             'ignored_recoveries': sum(1 for ev in evs if ev['type'] == 'ignored_recovery'),
+            'decisions': sum(1 for ev in evs if ev.get('decision')),
         })
     k = int(np.argmax(ae))
     costs = [ev for ev in run.events if ev['type'] == 'recovered' and ev.get('cost') is not None]
+    decisions = decision_list(run)
     whole = {
         't_start': t0, 't_end': t1, 'duration': t1 - t0, 'samples': int(len(t)),
         'iae': _f(cum[-1]), 'peak_abs_e': _f(ae[k]), 't_peak': _f(t[k]),
@@ -529,6 +583,10 @@ def run_metrics(run):
         'recoveries': sum(1 for ev in run.events if ev['type'] == 'recovered'),
         'ignored_onsets': sum(1 for ev in run.events if ev['type'] == 'ignored_onset'),
         'ignored_recoveries': sum(1 for ev in run.events if ev['type'] == 'ignored_recovery'),
+        'decision_events': sum(1 for ev in run.events if ev['type'] == 'decision'),
+        'decisions': len(decisions),
+        'decisions_by_kind': {k: sum(1 for d in decisions if d['decision'] == k)
+                              for k in DECISIONS},
         'episodes': run.episodes,
         'costs': [_f(ev['cost']) for ev in costs],
     }
@@ -538,12 +596,30 @@ def run_metrics(run):
         'switches': [{'t': float(s), 'theta_before': [float(v) for v in b],
                       'theta_after': [float(v) for v in a]}
                      for s, b, a in zip(sw_t, sw_before, sw_after)],
-        'whole_run': whole, 'windows': windows,
+        'whole_run': whole, 'windows': windows, 'decisions': decisions,
         'events': [{k2: (_f(v) if isinstance(v, float) else
                          ([_f(x) for x in v] if isinstance(v, list) else v))
                     for k2, v in ev.items()} for ev in run.events],
         'notes': list(run.notes),
     }
+
+
+def decision_list(run):
+    """pa_robust's verification decisions of a run (onsets and DECISION events that carry
+    one), in time order: dicts t, type, decision, chosen, candidates, score, score_keep,
+    theta_hat_after. Empty for the other modes and for bags without the fields."""
+    out = []
+    for ev in run.events:
+        if not ev.get('decision'):
+            continue
+        d = {'t': _f(ev['t']), 'type': ev['type']}
+        for k in DECISION_FIELDS:
+            v = ev.get(k)
+            d[k] = _f(v) if isinstance(v, float) else v
+        after = ev.get('theta_hat_after')
+        d['theta_hat_after'] = [_f(x) for x in after] if after else None
+        out.append(d)
+    return out
 
 
 def choose_baseline(metrics, baseline=None):
@@ -611,6 +687,18 @@ def compare(metrics, baseline_label, tol=0.05):
 
 # ----------------------------------------------------------------------------- text
 
+def final_decisions(decisions):
+    """The last decision of each verification (the decisions after one onset, up to the
+    next onset): what the phase settled on."""
+    out = []
+    for d in decisions:
+        if d['type'] == 'onset' or not out:
+            out.append(d)
+        else:
+            out[-1] = d
+    return out
+
+
 def _fmt(v, spec='%.4g', none='-'):
     return none if v is None else spec % v
 
@@ -638,6 +726,17 @@ def format_report(metrics, comparison):
                      'recoveries; learning episodes %s' % (
                          w['onsets'], w['recoveries'], w['ignored_onsets'],
                          w['ignored_recoveries'], _fmt(w['episodes'], '%d')))
+        if w['decisions']:
+            lines.append('   decisions (pa_robust verification): %d, %d of them DECISION events; '
+                         '%s' % (w['decisions'], w['decision_events'], ', '.join(
+                             '%s %d' % (k, n) for k, n in w['decisions_by_kind'].items() if n)))
+            for d in final_decisions(m['decisions']):
+                lines.append('     t = %.3f s: %s%s, residual %s rad against %s rad keeping '
+                             '(%s candidates)' % (
+                                 d['t'], d['decision'],
+                                 ' #%d' % d['chosen'] if d['decision'] == 'memory' else '',
+                                 _fmt(d['score'], '%.3g'), _fmt(d['score_keep'], '%.3g'),
+                                 _fmt(d['candidates'], '%d')))
         for n in m['notes']:
             lines.append('   note: ' + n)
         lines.append('   %3s %9s %9s %7s %11s %9s %12s %11s %6s %6s %5s' % (
@@ -684,7 +783,8 @@ def format_report(metrics, comparison):
 CSV_COLUMNS = ['label', 'source', 'namespace', 'mode', 'window', 'kind', 't_start', 't_end',
                'theta_scale', 'theta_scale_before', 'peak_abs_e', 't_peak', 'iae', 'max_abs_u',
                'recovery_time', 'onset_delay', 'onsets', 'recoveries', 'ignored_onsets',
-               'ignored_recoveries', 'baseline', 'peak_reduction_pct', 'iae_reduction_pct']
+               'ignored_recoveries', 'baseline', 'peak_reduction_pct', 'iae_reduction_pct',
+               'decisions']
 
 
 def write_tables(out_dir, metrics, comparison, settings):
@@ -732,6 +832,13 @@ ONSET_COLOR = 'tab:green'
 RECOVERY_COLOR = 'black'
 SWITCH_COLOR = '0.55'
 THETA_UNITS = ('[1/s]', '[rad/rad]', '[s]')  # theta^T x enters u [rad]; x = [rad s, rad, rad/s]
+# Marker per pa_robust decision kind (time plots and decisions_<label>.png).
+DECISION_STYLE = {
+    'keep': {'marker': 's', 'color': 'tab:gray'},
+    'fit': {'marker': 'D', 'color': 'tab:purple'},
+    'memory': {'marker': '^', 'color': 'tab:brown'},
+    'network': {'marker': '*', 'color': 'tab:pink'},
+}
 
 
 def _mpl():
@@ -840,6 +947,7 @@ def plot_alpha(plt, run, m, path, c_e, xlim=None):
         if pts:
             ax2.plot(*zip(*pts), ls='none', marker=mk, ms=7, mew=1.8, color=col, zorder=4,
                      label=kind.replace('_', ' '))
+    _decision_markers(ax2, run, lambda ev: ev.get('e'))
     ax2.set_ylabel('output error $e$ [rad]')
     ax2.set_xlabel('time $t$ [s]')
     _legend(ax2)
@@ -959,10 +1067,16 @@ def plot_theta(plt, run, m, path, xlim=None):
         _switch_lines(ax, m, annotate=(i == 0))
         _event_lines(ax, run, with_labels=(i == 0))
         for ev in run.events:
-            if ev['type'] == 'onset' and ev.get('reset') and ev.get('theta_hat_after'):
+            if _is_paper_reset(ev):
                 ax.plot(ev['t'], ev['theta_hat_after'][i], marker='o', ms=5, mfc='none',
                         color=ONSET_COLOR, zorder=4,
                         label=r'reset to $\hat\theta_I$' if ev is _first_reset(run) else None)
+        # pa_robust: the estimate each decision set (or kept), the last of each verification
+        # labelled with its identification residual against keeping's
+        _decision_markers(
+            ax, run, lambda ev, i=i: ev['theta_hat_after'][i]
+            if ev.get('theta_hat_after') and len(ev['theta_hat_after']) > i else None,
+            with_labels=(i == 0), annotate=(i == 0), xlim=xlim)
         ax.set_ylabel(r'$\theta_%d$ %s' % (i, THETA_UNITS[i]))
         _legend(ax)
         _ylim_to_xlim(ax, [(run.t_e, run.theta_hat[:, i]), (run.t_theta, run.theta[:, i])], xlim)
@@ -974,11 +1088,62 @@ def plot_theta(plt, run, m, path, xlim=None):
     plt.close(fig)
 
 
+def _is_paper_reset(ev):
+    """An onset that reset theta_hat to the network's theta_hat_I (pa modes; pa_robust's
+    onsets carry a decision and are drawn as decisions)."""
+    return (ev['type'] == 'onset' and ev.get('reset') and ev.get('theta_hat_after')
+            and not ev.get('decision'))
+
+
 def _first_reset(run):
     for ev in run.events:
-        if ev['type'] == 'onset' and ev.get('reset') and ev.get('theta_hat_after'):
+        if _is_paper_reset(ev):
             return ev
     return None
+
+
+def _decision_text(d):
+    return '%s%s: %s vs keep %s rad' % (
+        d['decision'], ' #%d' % d['chosen'] if d['decision'] == 'memory' else '',
+        _fmt(d['score'], '%.2g'), _fmt(d['score_keep'], '%.2g'))
+
+
+def _decision_markers(ax, run, y_of, with_labels=True, annotate=False, xlim=None):
+    """Markers at pa_robust's decisions (onsets and DECISION events): one style per kind
+    (DECISION_STYLE), at height y_of(event) (None: not drawn). With `annotate`, the last
+    decision of each verification is labelled with its score against keeping's."""
+    drawn = []
+    for kind, st in DECISION_STYLE.items():
+        pts = []
+        for ev in run.events:
+            if ev.get('decision') != kind:
+                continue
+            y = y_of(ev)
+            if y is not None:
+                pts.append((ev['t'], y))
+        if pts:
+            ax.plot(*zip(*pts), ls='none', marker=st['marker'], ms=7, mew=1.2, mfc='none',
+                    color=st['color'], zorder=5,
+                    label=('decision: %s' % kind) if with_labels else None)
+            drawn.append(kind)
+    if annotate:
+        evs = [ev for ev in run.events if ev.get('decision')]
+        finals = final_decisions([dict(ev, _ev=ev) for ev in evs])
+        span = (xlim[1] - xlim[0]) if xlim else float(run.t_e[-1] - run.t_e[0])
+        last_t, lift = None, 0
+        for d in finals:
+            y = y_of(d['_ev'])
+            if y is None or (xlim and not xlim[0] <= d['t'] <= xlim[1]):
+                continue
+            # verifications close together (a re-trigger right after a switch): stack labels
+            lift = lift + 11 if last_t is not None and d['t'] - last_t < 0.15 * span else 0
+            last_t = d['t']
+            ax.annotate(_decision_text(d), xy=(d['t'], y), xytext=(6, 6 + lift),
+                        textcoords='offset points', fontsize=7.5, zorder=6,
+                        color=DECISION_STYLE[d['decision']]['color'],
+                        bbox={'boxstyle': 'round,pad=0.15', 'fc': 'white', 'ec': 'none',
+                              'alpha': 0.75}, annotation_clip=True)
+    return drawn
 
 
 def plot_elevator(plt, run, m, path, xlim=None):
@@ -998,6 +1163,51 @@ def plot_elevator(plt, run, m, path, xlim=None):
     ser = [(run.t_u, run.u)] + ([(run.t_u, run.u_bl), (run.t_u, run.u_ad)] if run.u_bl is not None else [])
     _ylim_to_xlim(ax, ser, xlim)
     _xlim(ax, xlim)
+    _save(fig, path)
+    plt.close(fig)
+
+
+def plot_decisions(plt, run, path):
+    """pa_robust's verifications: the RMS identification residual of the estimate each
+    decision set or kept (score, marker per kind) against keeping the pre-switch estimate
+    (score_keep), decision by decision; the verifications (from each onset) are separated
+    and labelled with their time and what they settled on."""
+    decs = [ev for ev in run.events if ev.get('decision')]
+    fig, ax = plt.subplots(figsize=(11, 4.8))
+    k = np.arange(1, len(decs) + 1)
+    keep = [ev['score_keep'] for ev in decs]
+    ax.plot(k, keep, color='0.25', lw=0.8, ls='--', marker='x', ms=5, zorder=3,
+            label='score_keep: keeping the pre-switch estimate')
+    for kind, st in DECISION_STYLE.items():
+        pts = [(kk, ev['score']) for kk, ev in zip(k, decs) if ev['decision'] == kind]
+        if pts:
+            ax.plot(*zip(*pts), ls='none', marker=st['marker'], ms=8, color=st['color'],
+                    zorder=4, label='score: %s' % kind)
+    pos = [v for v in keep + [ev['score'] for ev in decs] if v is not None and v > 0]
+    if pos:
+        ax.set_yscale('log')
+    starts = [i for i, ev in enumerate(decs) if ev['type'] == 'onset' or i == 0]
+    for j, i0 in enumerate(starts):
+        i1 = starts[j + 1] if j + 1 < len(starts) else len(decs)
+        if i0 > 0:
+            ax.axvline(i0 + 0.5, color=ONSET_COLOR, lw=1.0, zorder=1)
+        last = decs[i1 - 1]
+        ax.annotate('onset %.3f s\n-> %s%s\n%s vs %s rad' % (
+            decs[i0]['t'], last['decision'],
+            ' #%d' % last['chosen'] if last['decision'] == 'memory' else '',
+            _fmt(last['score'], '%.2g'), _fmt(last['score_keep'], '%.2g')),
+            xy=(i0 + 0.6, 1.0), xycoords=('data', 'axes fraction'), xytext=(2, -3),
+            textcoords='offset points', va='top', ha='left', fontsize=7.5, color='0.25')
+    ax.plot([], [], color=ONSET_COLOR, lw=1.0, label='a new verification (onset)')
+    ax.set_xlim(0.5, len(decs) + 0.5)
+    if pos:
+        lo, hi = min(pos), max(pos)
+        ax.set_ylim(lo / 3.0, hi * 30.0)  # room for the labels at the top
+    ax.set_xlabel('decision # (onsets and DECISION events, in time order)')
+    ax.set_ylabel('RMS identification residual [rad]')
+    ax.set_title("pa_robust verification: run '%s' (mode %s), %d decisions" % (
+        run.label, run.mode, len(decs)))
+    _legend(ax)
     _save(fig, path)
     plt.close(fig)
 
@@ -1053,6 +1263,10 @@ def write_figures(out_dir, runs, metrics, comparison, c_e=0.005, xlim=None):
                                ('elevator_%s.png' % s, plot_elevator, (xlim,))):
             p = os.path.join(out_dir, name)
             fn(plt, r, m, p, *args)
+            files.append(p)
+        if any(ev.get('decision') for ev in r.events):
+            p = os.path.join(out_dir, 'decisions_%s.png' % s)
+            plot_decisions(plt, r, p)
             files.append(p)
     if len(runs) > 1:
         p = os.path.join(out_dir, 'alpha_compare.png')

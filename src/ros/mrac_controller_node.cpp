@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "preadaptive_mrac/io/weights_io.hpp"
@@ -23,8 +24,26 @@ std::uint8_t eventType(Event::Type t) {
       return AttentionEvent::IGNORED_ONSET;
     case Event::Type::kIgnoredRecovery:
       return AttentionEvent::IGNORED_RECOVERY;
+    case Event::Type::kDecision:
+      return AttentionEvent::DECISION;
   }
   return AttentionEvent::ONSET;
+}
+
+std::uint8_t decisionCode(Event::Decision d) {
+  switch (d) {
+    case Event::Decision::kNone:
+      return AttentionEvent::DECISION_NONE;
+    case Event::Decision::kKeep:
+      return AttentionEvent::DECISION_KEEP;
+    case Event::Decision::kFit:
+      return AttentionEvent::DECISION_FIT;
+    case Event::Decision::kMemory:
+      return AttentionEvent::DECISION_MEMORY;
+    case Event::Decision::kNetwork:
+      return AttentionEvent::DECISION_NETWORK;
+  }
+  return AttentionEvent::DECISION_NONE;
 }
 
 void copyVec(const Vec& v, std::vector<double>* out) {
@@ -48,6 +67,14 @@ void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg) {
   copyVec(ev.grad, &msg->grad);
   msg->learned = ev.learned;
   msg->episodes = ev.episodes;
+  // pa_robust's verification; the defaults ("", NONE, -1, 0, 0, 0) for every other event.
+  const bool decided = ev.decision != Event::Decision::kNone;
+  msg->decision = decided ? decisionName(ev.decision) : "";
+  msg->decision_code = decisionCode(ev.decision);
+  msg->chosen = decided ? ev.chosen : -1;
+  msg->candidates = decided ? ev.candidates : 0;
+  msg->score = decided ? ev.score : 0.0;
+  msg->score_keep = decided ? ev.score_keep : 0.0;
 }
 
 MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
@@ -129,9 +156,11 @@ int MracControllerNode::run() {
     truth_sub_ = nh_.subscribe("plant/truth", kSampleQueue, &MracControllerNode::truthCallback,
                                this, ros::TransportHints().tcpNoDelay());
     ROS_WARN(
-        "mode pa_learn_exact: the learning gradient uses the SIMULATION TRUTH theta from %s "
-        "(only a simulator has it); each state waits for the truth of the same step",
-        truth_sub_.getTopic().c_str());
+        "mode %s uses the SIMULATION TRUTH theta from %s (%s; only a simulator has it); "
+        "each state waits for the truth of the same step",
+        modeName(ctl_.mode()), truth_sub_.getTopic().c_str(),
+        ctl_.mode() == Mode::kOracle ? "theta_hat := theta at each switch"
+                                     : "the learning gradient");
   }
   stale_timer_ = nh_.createTimer(ros::Duration(params_.run.controller.sample_time),
                                  &MracControllerNode::staleTimerCallback, this);
@@ -319,12 +348,30 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
     if (out.event->type == Event::Type::kOnset) ++onsets_;
     if (out.event->type == Event::Type::kRecovered) ++recoveries_;
     if (out.event->reset) ++resets_;
+    if (out.event->type == Event::Type::kDecision) ++decision_events_;
     event_msg_.header.stamp = msg.header.stamp;
     toMsg(*out.event, msg.step, &event_msg_);
     attention_pub_.publish(event_msg_);
-    ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", out.event->t,
-             eventTypeName(out.event->type), out.event->e, out.event->e_dot,
-             out.event->learned ? ", network updated" : "");
+    if (out.event->decision != Event::Decision::kNone) {
+      ++decisions_[static_cast<int>(out.event->decision)];
+      char buf[160];
+      std::snprintf(buf, sizeof(buf), "%s at t = %.3f s (score %.3g rad, keeping %.3g rad)",
+                    event_msg_.decision.c_str(), out.event->t, out.event->score,
+                    out.event->score_keep);
+      last_decision_ = buf;
+      const std::string which = out.event->decision == Event::Decision::kMemory
+                                    ? event_msg_.decision + " #" + std::to_string(out.event->chosen)
+                                    : event_msg_.decision;
+      ROS_INFO(
+          "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
+          "residual %.3g rad against %.3g rad keeping",
+          out.event->t, eventTypeName(out.event->type), out.event->e, out.event->e_dot,
+          which.c_str(), out.event->candidates, out.event->score, out.event->score_keep);
+    } else {
+      ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", out.event->t,
+               eventTypeName(out.event->type), out.event->e, out.event->e_dot,
+               out.event->learned ? ", network updated" : "");
+    }
   }
 
   const int oi = params_.run.plant.output_index;
@@ -442,6 +489,14 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("onsets", onsets_);
   stat.add("recoveries", recoveries_);
   stat.add("resets", resets_);
+  // pa_robust: DECISION events, and what the verifications (at onsets and DECISION events)
+  // chose.
+  stat.add("decision events", decision_events_);
+  stat.add("decisions keep", decisions_[static_cast<int>(Event::Decision::kKeep)]);
+  stat.add("decisions fit", decisions_[static_cast<int>(Event::Decision::kFit)]);
+  stat.add("decisions memory", decisions_[static_cast<int>(Event::Decision::kMemory)]);
+  stat.add("decisions network", decisions_[static_cast<int>(Event::Decision::kNetwork)]);
+  stat.add("last decision", last_decision_.empty() ? std::string("none") : last_decision_);
   stat.add("episodes", ctl_.network().state().episodes);
   stat.add("plant restarts", plant_restarts_);
 }

@@ -7,8 +7,11 @@
 /// - the run reaches the end: every step 0 .. N-1 exactly once on state, command and status;
 /// - alpha (plant/state), theta_hat (controller/status) and u (elevator_cmd) equal the CLI's
 ///   CSV to 1e-9;
-/// - the attention events match the CLI's in count, type and time;
-/// - onsets and recoveries appear, and per-window peaks of |e| equal the CLI's;
+/// - the attention events match the CLI's in count, type and time; pa_robust's verification
+///   fields (decision, chosen, candidates, score, score_keep, the estimate set) equal the
+///   CLI's, and events without a decision carry the message defaults;
+/// - onsets and recoveries appear (oracle: onsets only, it has no phases to recover from;
+///   pa_robust: DECISION events too), and per-window peaks of |e| equal the CLI's;
 /// - in learning modes, ~weights_out holds the episodes of the last event.
 
 #include <gtest/gtest.h>
@@ -104,7 +107,9 @@ std::map<std::string, std::vector<double>> readCsv(const std::string& path) {
     std::stringstream ss(line);
     std::string c;
     size_t i = 0;
-    while (std::getline(ss, c, ',') && i < names.size()) cols[names[i++]].push_back(std::stod(c));
+    // strtod, not stod: stod throws on subnormal values (oracle's e decays below 1e-308)
+    while (std::getline(ss, c, ',') && i < names.size())
+      cols[names[i++]].push_back(std::strtod(c.c_str(), nullptr));
   }
   return cols;
 }
@@ -254,19 +259,69 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   std::printf("[lockstep %s] %zu steps; max |diff| alpha %.3g, theta_hat %.3g, u %.3g\n",
               mode_.c_str(), n, max_alpha, max_th, max_u);
 
-  // --- events: count, type and time
+  // --- events: count, type and time; pa_robust's decisions
   const YAML::Node ev = json["events"];
   ASSERT_EQ(ev.size(), rec.events.size()) << "event count";
-  int onsets = 0, recoveries = 0;
+  const std::map<std::string, std::uint8_t> codes = {
+      {"keep", pm::AttentionEvent::DECISION_KEEP},
+      {"fit", pm::AttentionEvent::DECISION_FIT},
+      {"memory", pm::AttentionEvent::DECISION_MEMORY},
+      {"network", pm::AttentionEvent::DECISION_NETWORK}};
+  int onsets = 0, recoveries = 0, decision_events = 0, decisions = 0;
   for (size_t i = 0; i < rec.events.size(); ++i) {
-    EXPECT_EQ(ev[i]["type"].as<std::string>(), rec.events[i].type_name) << "event " << i;
-    EXPECT_NEAR(ev[i]["t"].as<double>(), rec.events[i].t, 1e-9) << "event " << i;
-    EXPECT_NEAR(ev[i]["e"].as<double>(), rec.events[i].e, 1e-9) << "event " << i;
-    if (rec.events[i].type == pm::AttentionEvent::ONSET) ++onsets;
-    if (rec.events[i].type == pm::AttentionEvent::RECOVERED) ++recoveries;
+    const pm::AttentionEvent& m = rec.events[i];
+    EXPECT_EQ(ev[i]["type"].as<std::string>(), m.type_name) << "event " << i;
+    EXPECT_NEAR(ev[i]["t"].as<double>(), m.t, 1e-9) << "event " << i;
+    EXPECT_NEAR(ev[i]["e"].as<double>(), m.e, 1e-9) << "event " << i;
+    if (m.type == pm::AttentionEvent::ONSET) ++onsets;
+    if (m.type == pm::AttentionEvent::RECOVERED) ++recoveries;
+    if (m.type == pm::AttentionEvent::DECISION) {
+      ++decision_events;
+      EXPECT_EQ(m.type_name, "decision") << "event " << i;
+    }
+    if (ev[i]["decision"]) {
+      ++decisions;
+      const std::string d = ev[i]["decision"].as<std::string>();
+      EXPECT_EQ(m.decision, d) << "event " << i;
+      ASSERT_TRUE(codes.count(d)) << "event " << i << ": decision '" << d << "'";
+      EXPECT_EQ(m.decision_code, codes.at(d)) << "event " << i;
+      EXPECT_EQ(m.chosen, ev[i]["chosen"].as<int>()) << "event " << i;
+      EXPECT_EQ(m.candidates, ev[i]["candidates"].as<int>()) << "event " << i;
+      const double score = ev[i]["score"].as<double>();
+      const double score_keep = ev[i]["score_keep"].as<double>();
+      EXPECT_NEAR(m.score, score, 1e-12 * std::max(1.0, std::abs(score))) << "event " << i;
+      EXPECT_NEAR(m.score_keep, score_keep, 1e-12 * std::max(1.0, std::abs(score_keep)))
+          << "event " << i;
+      const YAML::Node after = ev[i]["theta_hat_after"];
+      ASSERT_EQ(after.size(), m.theta_hat_after.size()) << "event " << i;
+      for (size_t j = 0; j < after.size(); ++j)
+        EXPECT_NEAR(m.theta_hat_after[j], after[j].as<double>(), 1e-9) << "event " << i;
+    } else {
+      // the defaults of an event without a verification
+      EXPECT_EQ(m.decision, "") << "event " << i;
+      EXPECT_EQ(m.decision_code, pm::AttentionEvent::DECISION_NONE) << "event " << i;
+      EXPECT_EQ(m.chosen, -1) << "event " << i;
+      EXPECT_EQ(m.candidates, 0) << "event " << i;
+      EXPECT_EQ(m.score, 0.0) << "event " << i;
+      EXPECT_EQ(m.score_keep, 0.0) << "event " << i;
+    }
   }
   EXPECT_GE(onsets, 1);
-  EXPECT_GE(recoveries, 1);
+  // oracle resets theta_hat at each switch and has no phases, so nothing recovers
+  if (mode_ != "oracle") {
+    EXPECT_GE(recoveries, 1);
+  }
+  if (mode_ == "pa_robust") {
+    EXPECT_GE(decision_events, 1);
+    EXPECT_GE(decisions, onsets) << "every pa_robust onset is verified";
+  } else {
+    EXPECT_EQ(decisions, 0) << "only pa_robust verifies";
+    EXPECT_EQ(decision_events, 0) << "only pa_robust verifies";
+  }
+  std::printf(
+      "[lockstep %s] %zu events: %d onsets, %d recoveries, %d decision events, %d "
+      "decisions\n",
+      mode_.c_str(), rec.events.size(), onsets, recoveries, decision_events, decisions);
 
   // --- per-window peaks of |e| (windows hold (t_start, t_end]; sample 0 in the first)
   const YAML::Node win = json["windows"];
@@ -286,7 +341,8 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   }
 
   // --- weights saved after each learning episode
-  if (!weights_out_.empty() && (mode_ == "pa_learn" || mode_ == "pa_learn_exact")) {
+  if (!weights_out_.empty() &&
+      (mode_ == "pa_learn" || mode_ == "pa_learn_exact" || mode_ == "pa_robust")) {
     std::int64_t last_episodes = 0;
     for (const auto& e : rec.events)
       last_episodes = std::max<std::int64_t>(last_episodes, e.episodes);

@@ -5,8 +5,10 @@ bags and CSV files in the formats the package's nodes and batch CLI produce.
 This is NOT the package's controller (that is the C++ core). It is an independent,
 deliberately simple implementation of SPEC.md's plant, LQR baseline, MRAC law, dirty
 derivative and attention function, plus a fixed random "preadaptation" reset (mode pa,
-no learning), so that the tests get data with the real structure (theta switches,
-onsets, recoveries, resets) without needing the C++ build. Everything the analysis must
+no learning) and, in mode pa_robust, made-up verification decisions (every kind, with
+scores) on onsets and as DECISION events after them, so that the tests get data with the
+real structure (theta switches, onsets, recoveries, resets, decisions) without needing
+the C++ build. Everything the analysis must
 find (switch times, peaks, event counts) is recomputed by the tests from the arrays
 returned here, never typed in.
 """
@@ -28,11 +30,32 @@ A = np.array([[0.0, 1.0, 0.0], [0.0, -0.32, 0.86], [0.0, -0.93, -0.43]])
 B = np.array([0.0, -0.02, -1.16])
 B1R = np.array([-1.0, 0.0, 0.0])
 
-EVENT_NAMES = {0: 'onset', 1: 'recovered', 2: 'ignored_onset', 3: 'ignored_recovery'}
+EVENT_NAMES = {0: 'onset', 1: 'recovered', 2: 'ignored_onset', 3: 'ignored_recovery',
+               4: 'decision'}
+DECISION_KINDS = ('keep', 'fit', 'memory', 'network')  # AttentionEvent.decision_code 1..4
+NO_DECISION = {'decision': '', 'decision_code': 0, 'chosen': -1, 'candidates': 0,
+               'score': 0.0, 'score_keep': 0.0}
+# The AttentionEvent fields added with pa_robust: a bag recorded before has none of them.
+DECISION_MSG_LINES = ('DECISION', 'decision', 'decision_code', 'chosen', 'candidates',
+                      'score', 'score_keep')
 
 
-def load_msg_classes(msg_dir=MSG_DIR):
-    """Message classes generated at run time from msg/*.msg (no build needed)."""
+def legacy_attention_text(text):
+    """AttentionEvent.msg as it was before pa_robust: without the DECISION type and the
+    decision fields (what an old bag stores)."""
+    keep = []
+    for line in text.splitlines():
+        words = line.split('#')[0].replace('=', ' ').split()
+        if len(words) >= 2 and (words[1] in DECISION_MSG_LINES or
+                                words[1].startswith('DECISION_')):
+            continue
+        keep.append(line)
+    return '\n'.join(keep) + '\n'
+
+
+def load_msg_classes(msg_dir=MSG_DIR, legacy_attention=False):
+    """Message classes generated at run time from msg/*.msg (no build needed); with
+    legacy_attention, AttentionEvent without the pa_robust fields (an old bag's)."""
     import genpy.dynamic
     import std_msgs.msg
     classes = {}
@@ -41,6 +64,8 @@ def load_msg_classes(msg_dir=MSG_DIR):
                  'AdaptationStatus'):
         with open(os.path.join(msg_dir, name + '.msg')) as f:
             text = f.read()
+        if legacy_attention and name == 'AttentionEvent':
+            text = legacy_attention_text(text)
         full = text + sep + 'MSG: std_msgs/Header\n' + std_msgs.msg.Header._full_text
         core = 'preadaptive_mrac/' + name
         classes[name] = genpy.dynamic.generate_dynamic(core, full)[core]
@@ -70,11 +95,17 @@ def theta_schedule(switches, scales):
 
 def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0), t_end=24.0,
              dt=0.002, r=0.1, gamma=10.0, c_e=0.005, c_ed=0.02, tau=0.01, seed=1,
-             init_scale=1.0, decimate=5):
+             init_scale=1.0, decimate=5, decision_every=5, decision_count=3):
     """Run the fixture closed loop. Returns a dict of arrays sampled every `decimate`
     steps (t, x, xr, e, e_dot, u, u_bl, u_ad, theta_hat, theta, phase, theta_pitch) and
     the list of attention events (every step is evaluated, so no event is lost by the
-    decimation)."""
+    decimation).
+
+    Mode pa_robust (a stand-in, not the core's algorithm): an onset resets like pa and
+    carries the decision network; then `decision_count` DECISION events follow, one every
+    `decision_every` steps while no attention event happens, cycling through keep, fit
+    and memory, each but keep moving theta_hat half way to the true theta; score_keep is
+    |e| + 0.01 and score a fraction of it (equal for keep)."""
     K = scipy.linalg.solve_continuous_are(A, B.reshape(3, 1), np.eye(3), np.eye(1))
     K = (B.reshape(1, 3) @ K).ravel()           # R = 1: K = B^T P_care
     Ar = A - np.outer(B, K)
@@ -95,6 +126,8 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
     phase_cost = 0.0
     episodes = 0
     theta_pitch = 0.0
+    decisions_made = 0  # DECISION events so far
+    decisions_due = []  # steps of the pending DECISION events
     n = int(round(t_end / dt))
     out = {k: [] for k in ('t', 'x', 'xr', 'e', 'e_dot', 'u', 'u_bl', 'u_ad',
                            'theta_hat', 'theta', 'phase', 'theta_pitch', 'step')}
@@ -114,10 +147,14 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
         elif s_prev > 0.0 >= s and abs(e_dot) < c_ed:
             ev = 1 if phase else 3
         s_prev = s
+        if ev is None and decisions_due and decisions_due[0] <= k:
+            decisions_due.pop(0)
+            ev = 4
         if ev is not None:
             before = th_hat.copy()
             reset = False
             cost = 0.0
+            dec = dict(NO_DECISION)
             if ev == 0:
                 phase = True
                 phase_cost = 0.0
@@ -126,13 +163,32 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
                     sig = 1.0 / (1.0 + np.exp(-(V.T @ z)))
                     th_hat = W.T @ sig
                     reset = True
+                if mode == 'pa_robust':
+                    decisions_due = [k + decision_every * (j + 1) for j in range(decision_count)]
             elif ev == 1:
                 phase = False
                 cost = phase_cost
-            events.append({'type': ev, 'type_name': EVENT_NAMES[ev], 't': t, 'step': k,
-                           'e': e, 'e_dot_est': e_dot, 'theta_hat_before': before,
-                           'theta_hat_after': th_hat.copy(), 'reset': reset, 'cost': cost,
-                           'grad': [], 'learned': False, 'episodes': episodes})
+                decisions_due = []
+            if mode == 'pa_robust' and ev in (0, 4):
+                kind = 'network' if ev == 0 else ('keep', 'fit', 'memory')[decisions_made % 3]
+                if ev == 4:
+                    decisions_made += 1
+                    if kind != 'keep':
+                        th_hat = 0.5 * (th_hat + theta)
+                        reset = True
+                score_keep = abs(e) + 0.01
+                dec = {'decision': kind, 'decision_code': DECISION_KINDS.index(kind) + 1,
+                       'chosen': decisions_made % 2 if kind == 'memory' else -1,
+                       'candidates': 2 + decisions_made % 4,
+                       'score': score_keep if kind == 'keep' else
+                       score_keep / (2.0 + decisions_made),
+                       'score_keep': score_keep}
+            d = {'type': ev, 'type_name': EVENT_NAMES[ev], 't': t, 'step': k,
+                 'e': e, 'e_dot_est': e_dot, 'theta_hat_before': before,
+                 'theta_hat_after': th_hat.copy(), 'reset': reset, 'cost': cost,
+                 'grad': [], 'learned': False, 'episodes': episodes}
+            d.update(dec)
+            events.append(d)
         u_bl = -K @ x
         u_ad = -th_hat @ x
         u = u_bl + u_ad
@@ -210,6 +266,8 @@ def make_messages(sim, classes):
             m.grad = list(ev['grad'])
             m.learned = ev['learned']
             m.episodes = ev['episodes']
+            # the pa_robust fields (not in a legacy AttentionEvent class)
+            _set_opt(m, **{k: ev.get(k, v) for k, v in NO_DECISION.items()})
             yield 'controller/attention', m, ev['t']
             next_ev = next(ev_iter, None)
         x = sim['x'][i]
@@ -312,7 +370,13 @@ def write_csv(path, sim, json_path=None, windows=True):
         for ev in sim['events']:
             d = {'type': ev['type_name'], 't': ev['t'], 'e': ev['e'], 'e_dot': ev['e_dot_est']}
             if ev['type'] == 0:
-                d['theta_hat_reset'] = list(ev['theta_hat_after'])
+                d['reset'] = bool(ev['reset'])
+                if ev['reset']:
+                    d['theta_hat_reset'] = list(ev['theta_hat_after'])
+            if ev.get('decision'):  # as src/io/setup.cpp prints pa_robust's decisions
+                for k in ('decision', 'chosen', 'candidates', 'score', 'score_keep'):
+                    d[k] = ev[k]
+                d['theta_hat_after'] = list(ev['theta_hat_after'])
             if ev['type'] == 1:
                 d['cost'] = ev['cost']
             evs.append(d)
@@ -340,6 +404,7 @@ def reference_metrics(sim):
         wins.append({'t_start': lo, 't_end': hi, 'peak': float(e[m].max()),
                      'onsets': sum(1 for ev in ev_in if ev['type'] == 0),
                      'recoveries': len(rec),
+                     'decisions': sum(1 for ev in ev_in if ev.get('decision')),
                      'recovery_time': (rec[0] - lo) if rec else None})
     return wins
 

@@ -67,6 +67,16 @@ class Fixtures:
         cls.rac_csv = synthetic.write_csv(os.path.join(d, 'out_rac.csv'), cls.rac,
                                           os.path.join(d, 'out_rac.json'))
         cls.pa_csv = synthetic.write_csv(os.path.join(d, 'scenario_pa.csv'), cls.pa)
+        # pa_robust: decisions on onsets and as DECISION events
+        cls.robust = synthetic.simulate('pa_robust', seed=1)
+        cls.robust_bag = synthetic.write_bag(os.path.join(d, 'compare_robust.bag'),
+                                             {'rac': cls.rac, 'pa': cls.robust}, cls.classes)
+        cls.robust_csv = synthetic.write_csv(os.path.join(d, 's1_pa_robust.csv'), cls.robust,
+                                             os.path.join(d, 's1_pa_robust.json'))
+        # a bag recorded before AttentionEvent had the decision fields
+        cls.legacy_classes = synthetic.load_msg_classes(legacy_attention=True)
+        cls.legacy_bag = synthetic.write_bag(os.path.join(d, 'legacy_pa.bag'), {'': cls.pa},
+                                             cls.legacy_classes)
         return cls
 
 
@@ -148,6 +158,8 @@ class TestCompareBag(unittest.TestCase):
 
     def test_files_written(self):
         names = set(os.listdir(self.out))
+        # no pa_robust run, no decisions figure
+        self.assertFalse([n for n in names if n.startswith('decisions_')])
         for n in ('metrics.json', 'metrics.csv', 'alpha_rac.png', 'alpha_pa.png',
                   'theta_hat_rac.png', 'theta_hat_pa.png', 'elevator_rac.png',
                   'elevator_pa.png', 'alpha_compare.png', 'peak_per_window.png',
@@ -200,6 +212,202 @@ class TestCompareBag(unittest.TestCase):
         rec = [ev['t'] for ev in self.f.pa['events'] if ev['type_name'] == 'recovered']
         np.testing.assert_allclose(sorted(xs['green']), on)
         np.testing.assert_allclose(sorted(xs['black']), rec)
+
+
+def decision_events(sim):
+    return [ev for ev in sim['events'] if ev.get('decision')]
+
+
+class TestDecisions(unittest.TestCase):
+    """pa_robust's verification decisions: read from bags (AttentionEvent fields) and the
+    CLI's JSON, listed in metrics.json and the report, drawn on the time plots; bags
+    recorded before the fields existed still load."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.f = Fixtures.make()
+        cls.out = os.path.join(cls.f.dir, 'out_robust')
+        cls.rc, cls.stdout, cls.stderr = run_cli(cls.f.robust_bag, '--out', cls.out)
+        with open(os.path.join(cls.out, 'metrics.json')) as fh:
+            cls.doc = json.load(fh)
+        cls.runs = {r['label']: r for r in cls.doc['runs']}
+
+    def assertDecisionsEqual(self, got, sim):
+        want = decision_events(sim)
+        self.assertGreaterEqual(len(want), 8)
+        self.assertEqual({ev['decision'] for ev in want}, set(pa.DECISIONS))
+        self.assertEqual(len(got), len(want))
+        for g, w in zip(got, want):
+            self.assertAlmostEqual(g['t'], w['t'], places=9)
+            self.assertEqual(g['type'], w['type_name'])
+            self.assertEqual(g['decision'], w['decision'])
+            self.assertEqual(g['chosen'], w['chosen'])
+            self.assertEqual(g['candidates'], w['candidates'])
+            self.assertAlmostEqual(g['score'], w['score'], places=14)
+            self.assertAlmostEqual(g['score_keep'], w['score_keep'], places=14)
+            np.testing.assert_allclose(g['theta_hat_after'], w['theta_hat_after'], atol=1e-12)
+
+    def test_decisions_in_metrics_json(self):
+        self.assertEqual(self.rc, 0, self.stderr)
+        self.assertEqual(self.runs['pa']['mode'], 'pa_robust')
+        r = self.runs['pa']
+        self.assertDecisionsEqual(r['decisions'], self.f.robust)
+        want = decision_events(self.f.robust)
+        w = r['whole_run']
+        self.assertEqual(w['decisions'], len(want))
+        self.assertEqual(w['decision_events'],
+                         sum(1 for ev in self.f.robust['events'] if ev['type'] == 4))
+        self.assertEqual(w['decisions_by_kind'],
+                         {k: sum(1 for ev in want if ev['decision'] == k) for k in pa.DECISIONS})
+        ref = synthetic.reference_metrics(self.f.robust)
+        self.assertEqual([win['decisions'] for win in r['windows']],
+                         [rw['decisions'] for rw in ref])
+        # every event, DECISION ones included, with its fields; none on the others
+        self.assertEqual([e['type'] for e in r['events']],
+                         [e['type_name'] for e in self.f.robust['events']])
+        for e, ev in zip(r['events'], self.f.robust['events']):
+            self.assertEqual(e['decision'], ev['decision'] or None)
+        # the rac run of the same bag has none
+        self.assertEqual(self.runs['rac']['decisions'], [])
+        self.assertEqual(self.runs['rac']['whole_run']['decisions'], 0)
+        with open(os.path.join(self.out, 'metrics.csv')) as fh:
+            rows = list(csv.DictReader(fh))
+        alls = {row['label']: row for row in rows if row['window'] == 'all'}
+        self.assertEqual(int(alls['pa']['decisions']), len(want))
+        self.assertEqual(int(alls['rac']['decisions']), 0)
+
+    def test_decisions_from_the_cli_json(self):
+        run = pa.load_runs(self.f.robust_csv)[0]
+        self.assertEqual(run.mode, 'pa_robust')
+        self.assertDecisionsEqual(pa.run_metrics(run)['decisions'], self.f.robust)
+        # a DECISION that keeps does not move theta_hat; the others do
+        for ev in run.events:
+            if ev['type'] == 'decision':
+                self.assertEqual(ev['reset'], ev['decision'] != 'keep')
+
+    def test_report_lists_the_decisions(self):
+        want = decision_events(self.f.robust)
+        self.assertIn('decisions (pa_robust verification): %d, %d of them DECISION events' % (
+            len(want), sum(1 for ev in want if ev['type'] == 4)), self.stdout)
+        # the last decision of each verification (from each onset)
+        finals = pa.final_decisions([{'type': ev['type_name'], 't': ev['t']} for ev in want])
+        self.assertEqual(len(finals), sum(1 for ev in want if ev['type'] == 0))
+        for d in finals:
+            ev = [e for e in want if e['t'] == d['t']][0]
+            self.assertIn('t = %.3f s: %s' % (ev['t'], ev['decision']), self.stdout)
+            self.assertIn('residual %.3g rad against %.3g rad keeping' % (
+                ev['score'], ev['score_keep']), self.stdout)
+
+    def test_decisions_figure_written(self):
+        p = os.path.join(self.out, 'decisions_pa.png')
+        self.assertTrue(os.path.exists(p), sorted(os.listdir(self.out)))
+        self.assertTrue(is_png(p))
+        self.assertGreater(os.path.getsize(p), 20000)
+        self.assertFalse(os.path.exists(os.path.join(self.out, 'decisions_rac.png')))
+
+    def _spy(self, fn, *args):
+        """Call a plot function, returning its axes (matplotlib objects, not pixels)."""
+        import matplotlib
+        matplotlib.use('Agg')
+        plt = pa._mpl()
+        captured = {}
+        orig = plt.subplots
+
+        def spy(*a, **k):
+            fig, axes = orig(*a, **k)
+            captured['axes'] = axes
+            return fig, axes
+        plt.subplots = spy
+        try:
+            fn(plt, *args)
+        finally:
+            plt.subplots = orig
+        return captured['axes']
+
+    def _markers(self, ax):
+        """{decision kind: [(x, y), ...]} of the decision markers drawn on ax."""
+        import matplotlib
+        out = {}
+        for line in ax.get_lines():
+            for kind, st in pa.DECISION_STYLE.items():
+                if (line.get_linestyle() == 'None' and line.get_marker() == st['marker'] and
+                        matplotlib.colors.to_hex(line.get_color()) ==
+                        matplotlib.colors.to_hex(st['color'])):
+                    out.setdefault(kind, []).extend(zip(line.get_xdata(), line.get_ydata()))
+        return out
+
+    def test_time_plots_draw_decisions(self):
+        run = [r for r in pa.load_runs(self.f.robust_bag) if r.label == 'pa'][0]
+        m = pa.run_metrics(run)
+        want = decision_events(self.f.robust)
+        # theta_hat figure: a marker per decision at the estimate it set, in every component
+        axes = self._spy(pa.plot_theta, run, m, os.path.join(self.f.dir, 'spy_theta.png'))
+        for i, ax in enumerate(axes):
+            got = self._markers(ax)
+            for kind in pa.DECISIONS:
+                pts = sorted(got.get(kind, []))
+                exp = [(ev['t'], ev['theta_hat_after'][i]) for ev in want
+                       if ev['decision'] == kind]
+                np.testing.assert_allclose(pts, exp, atol=1e-12, err_msg='%s %d' % (kind, i))
+        # ... labelled with score against keeping's at the last decision of each verification
+        texts = [a.get_text() for a in axes[0].texts if ' vs keep ' in a.get_text()]
+        finals = pa.final_decisions([dict(ev, type=ev['type_name']) for ev in want])
+        self.assertEqual(len(texts), len(finals))
+        for d in finals:
+            self.assertIn(pa._decision_text(d), texts)
+        self.assertTrue(any(a.get_text().startswith('memory #') for a in axes[0].texts) or
+                        all(d['decision'] != 'memory' for d in finals))
+        # the error panel of the alpha figure: the same decisions at their e
+        ax2 = self._spy(pa.plot_alpha, run, m, os.path.join(self.f.dir, 'spy_a.png'), 0.005)[1]
+        got = self._markers(ax2)
+        for kind in pa.DECISIONS:
+            np.testing.assert_allclose(sorted(got.get(kind, [])),
+                                       [(ev['t'], ev['e']) for ev in want
+                                        if ev['decision'] == kind], atol=1e-12)
+        # the decisions figure: score and score_keep per decision
+        ax = self._spy(pa.plot_decisions, run, os.path.join(self.f.dir, 'spy_d.png'))
+        got = self._markers(ax)
+        for kind in pa.DECISIONS:
+            ks = [k + 1 for k, ev in enumerate(want) if ev['decision'] == kind]
+            np.testing.assert_allclose(sorted(got.get(kind, [])),
+                                       [(k, want[k - 1]['score']) for k in ks], rtol=1e-12)
+
+    def test_message_fields_and_codes(self):
+        """decision_code alone (an empty decision string) and the DECISION type code."""
+        m = types.SimpleNamespace(decision='', decision_code=3, chosen=2, candidates=5,
+                                  score=0.001, score_keep=0.1)
+        self.assertEqual(pa._msg_decision(m), {'decision': 'memory', 'chosen': 2,
+                                               'candidates': 5, 'score': 0.001,
+                                               'score_keep': 0.1})
+        m.decision_code = 0
+        self.assertIsNone(pa._msg_decision(m)['decision'])
+        cls = self.f.classes['AttentionEvent']
+        self.assertEqual(cls.DECISION, 4)
+        self.assertEqual(pa.EVENT_TYPES[cls.DECISION], 'decision')
+        self.assertEqual([pa.DECISIONS[c - 1] for c in (cls.DECISION_KEEP, cls.DECISION_FIT,
+                                                        cls.DECISION_MEMORY,
+                                                        cls.DECISION_NETWORK)],
+                         list(pa.DECISIONS))
+        self.assertEqual(cls.DECISION_NONE, 0)
+
+    def test_old_bag_without_decision_fields(self):
+        self.assertNotIn('decision', self.f.legacy_classes['AttentionEvent'].__slots__)
+        self.assertIn('decision', self.f.classes['AttentionEvent'].__slots__)
+        out = os.path.join(self.f.dir, 'out_legacy')
+        rc, so, se = run_cli(self.f.legacy_bag, '--out', out)
+        self.assertEqual(rc, 0, se)
+        with open(os.path.join(out, 'metrics.json')) as fh:
+            old = json.load(fh)['runs'][0]
+        self.assertEqual(len(old['events']), len(self.f.pa['events']))
+        self.assertTrue(all(e['decision'] is None for e in old['events']))
+        self.assertEqual(old['decisions'], [])
+        self.assertEqual(old['whole_run']['decisions'], 0)
+        # the same metrics as the bag of the same run with today's message
+        new = pa.run_metrics(pa.load_runs(self.f.pa_bag)[0])
+        for wo, wn in zip(old['windows'], new['windows']):
+            self.assertEqual(wo['peak_abs_e'], wn['peak_abs_e'])
+            self.assertEqual(wo['onsets'], wn['onsets'])
+        self.assertFalse([n for n in os.listdir(out) if n.startswith('decisions_')])
 
 
 class TestCsvInputs(unittest.TestCase):
@@ -531,6 +739,22 @@ class TestVizMarkersOffline(unittest.TestCase):
         for m in arr.markers:
             q = m.pose.orientation
             self.assertAlmostEqual(q.x ** 2 + q.y ** 2 + q.z ** 2 + q.w ** 2, 1.0, places=9)
+
+    def test_last_event_text_shows_a_decision(self):
+        v = self._viz()
+        sim = synthetic.simulate('pa_robust', t_end=12.0)
+        last = [ev for ev in sim['events'] if ev['t'] <= 10.325][-1]
+        self.assertEqual(last['type_name'], 'decision')
+        for rel, msg, t in synthetic.make_messages(sim, self.classes):
+            if t > 10.325:
+                break
+            {'plant/state': v.on_state, 'controller/status': v.on_status,
+             'controller/attention': v.on_attention, 'plant/truth': v.on_truth,
+             'controller/elevator_cmd': lambda m: None}[rel](msg)
+        texts = [m.text for m in v.build().markers if m.ns == 'text' and m.action == m.ADD]
+        self.assertIn('last event: DECISION at %.3f s' % last['t'], texts[4])
+        self.assertIn('%s: %.2g vs keep %.2g rad' % (last['decision'], last['score'],
+                                                     last['score_keep']), texts[4])
 
     def test_elevator_plate_trailing_edge_down_for_positive_u(self):
         v = self._viz()

@@ -5,9 +5,11 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <string>
 
 #include "preadaptive_mrac/AdaptationStatus.h"
 #include "preadaptive_mrac/AttentionEvent.h"
@@ -26,9 +28,11 @@ void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg);
 
 /// \brief The preadaptive MRAC controller node.
 ///
-/// Subscribes plant/state (tcpNoDelay) and, in pa_learn_exact only, plant/truth; publishes
-/// controller/elevator_cmd (answering each state's step), controller/attention (events) and
-/// controller/status (every step). All topics are relative to the node's namespace.
+/// Subscribes plant/state (tcpNoDelay) and, in the modes that need the simulation truth
+/// (Controller::needsTruth(): pa_learn_exact, oracle), plant/truth; publishes
+/// controller/elevator_cmd (answering each state's step), controller/attention (attention
+/// events and pa_robust's decisions) and controller/status (every step). All topics are
+/// relative to the node's namespace.
 class MracControllerNode {
  public:
   /// \brief Builds the controller (K, P at start-up), loads ~weights_in, advertises.
@@ -88,7 +92,12 @@ class MracControllerNode {
   std::int64_t diag_states_ = 0;  ///< states_received_ at the last diagnostics report
   double diag_time_ = 0.0;        ///< ROS time [s] of the last diagnostics report
 
-  std::map<std::uint64_t, Vec> truth_;        ///< pa_learn_exact: theta by step
+  // pa_robust's verifications, for the diagnostics.
+  std::int64_t decision_events_ = 0;         ///< DECISION events
+  std::array<std::int64_t, 5> decisions_{};  ///< decisions (onsets and DECISION) by kind
+  std::string last_decision_;                ///< e.g. "fit at t = 45.052 s (score ...)"
+
+  std::map<std::uint64_t, Vec> truth_;        ///< pa_learn_exact, oracle: theta by step
   std::deque<PlantState::ConstPtr> pending_;  ///< states waiting for their truth
   bool have_truth_ = false;
   std::uint64_t last_truth_step_ = 0;
