@@ -113,6 +113,8 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
     in.x = &x;
     in.r = sim.reference();
     in.theta_true = &sim.theta();
+    const double u_applied = sim.lastApplied();
+    in.u_applied = &u_applied;
     const StepOutput o = ctl_->step(in);
     if (o.event) {
       acc.addEvent(*o.event);

@@ -73,7 +73,10 @@ const char* decisionName(Event::Decision d) {
 
 RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
   RobustConfig c;
-  if (!r.has(p)) return c;  // optional section: the documented defaults
+  if (!r.has(p)) {  // optional section: the documented defaults
+    r.noteDefault(p, "absent (pa_robust's documented defaults)");
+    return c;
+  }
   c.detect_window = r.getDouble(p + ".detect_window");
   c.chunk = r.getDouble(p + ".chunk");
   c.threshold = r.getDouble(p + ".threshold");
@@ -163,6 +166,8 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
     c.projection = r.getBool(p + ".projection.enabled");
     c.theta_max = r.getDouble(p + ".projection.theta_max");
     c.projection_epsilon = r.getDouble(p + ".projection.epsilon");
+  } else {
+    r.noteDefault(p + ".projection", "absent (no projection)");
   }
   c.robust = RobustConfig::read(r, p + ".robust");
   c.validate(r, n, p);
@@ -359,6 +364,39 @@ Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
   reset();
 }
 
+Controller::Controller(const Controller& other) : vel_(other.vel_), attention_(other.attention_) {
+  *this = other;
+}
+
+Controller& Controller::operator=(const Controller& o) {
+  if (this == &o) return *this;
+  cfg_ = o.cfg_;
+  design_ = o.design_;
+  n_ = o.n_;
+  out_ = o.out_;
+  dt_ = o.dt_;
+  K_ = o.K_;
+  B_ = o.B_;
+  PB_ = o.PB_;
+  b_ref_ = o.b_ref_;
+  Phi_r_ = o.Phi_r_;
+  Gam_r_ = o.Gam_r_;
+  x0_ = o.x0_;
+  x_r_ = o.x_r_;
+  theta_hat_ = o.theta_hat_;
+  ev_ = o.ev_;
+  upd_ = o.upd_;
+  limits_ = o.limits_;
+  u_prev_ = o.u_prev_;
+  u_cmd_prev_ = o.u_cmd_prev_;
+  r_prev_ = o.r_prev_;
+  vel_ = o.vel_;
+  attention_ = o.attention_;
+  net_ = o.net_;
+  strategy_ = o.strategy_->clone(&net_);
+  return *this;
+}
+
 void Controller::reset() {
   x_r_ = x0_;
   theta_hat_ = cfg_.theta_hat0;
@@ -366,6 +404,7 @@ void Controller::reset() {
   attention_.reset();
   strategy_->reset();
   u_prev_ = 0.0;
+  u_cmd_prev_ = 0.0;
   r_prev_ = 0.0;
 }
 
@@ -429,7 +468,7 @@ StepOutput Controller::step(const StepInput& in) {
   smp.ev = &ev_;
   smp.e = out.e;
   smp.e_dot = out.e_dot;
-  smp.u_prev = u_prev_;
+  smp.u_prev = in.u_applied != nullptr ? *in.u_applied : u_cmd_prev_;
   smp.r_prev = r_prev_;
   const Detection det = strategy_->detect(smp, theta_hat_, &attention_);
   if (det != Detection::kNone) {
@@ -474,6 +513,7 @@ StepOutput Controller::step(const StepInput& in) {
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);
   out.saturated = out.u != out.u_unsaturated;
   u_prev_ = out.u;
+  u_cmd_prev_ = out.u;
   out.x_ref = x_r_;
   out.theta_hat = theta_hat_;
 

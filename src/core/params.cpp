@@ -227,9 +227,16 @@ double ParamReader::getDouble(const std::string& dotted) {
   return d;
 }
 
+void ParamReader::noteDefault(const std::string& dotted, const std::string& value) {
+  defaults_.push_back(name(dotted) + " = " + value);
+}
+
 double ParamReader::getDouble(const std::string& dotted, double def) {
   const ParamValue* v = lookup(dotted, false);
-  if (v == nullptr) return def;
+  if (v == nullptr) {
+    noteDefault(dotted, formatNumber(def));
+    return def;
+  }
   double d = def;
   numberAt(*v, dotted, &d);
   return d;
@@ -249,6 +256,7 @@ std::int64_t ParamReader::getInt(const std::string& dotted) {
 std::int64_t ParamReader::getInt(const std::string& dotted, std::int64_t def) {
   if (!has(dotted)) {
     used_.insert(dotted);
+    noteDefault(dotted, std::to_string(def));
     return def;
   }
   return getInt(dotted);
@@ -268,6 +276,7 @@ bool ParamReader::getBool(const std::string& dotted) {
 bool ParamReader::getBool(const std::string& dotted, bool def) {
   if (!has(dotted)) {
     used_.insert(dotted);
+    noteDefault(dotted, def ? "true" : "false");
     return def;
   }
   return getBool(dotted);
@@ -287,6 +296,7 @@ std::string ParamReader::getString(const std::string& dotted) {
 std::string ParamReader::getString(const std::string& dotted, const std::string& def) {
   if (!has(dotted)) {
     used_.insert(dotted);
+    noteDefault(dotted, "'" + def + "'");
     return def;
   }
   return getString(dotted);

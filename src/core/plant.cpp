@@ -27,6 +27,8 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
     for (const char* k : {".max_deflection", ".max_rate"})
       if (r.usable(a + k) && !(r.getDouble(a + k) > 0.0))
         r.fail(a + k, "must be > 0, got " + formatNumber(r.getDouble(a + k)));
+  } else {
+    r.noteDefault(prefix + ".actuator", "absent (no elevator limits)");
   }
   if (r.has(prefix + ".noise")) {
     const std::string nk = prefix + ".noise";
@@ -37,6 +39,8 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
     const std::int64_t seed = r.getInt(nk + ".seed");
     if (seed < 0) r.fail(nk + ".seed", "must be >= 0");
     c.noise.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+  } else {
+    r.noteDefault(prefix + ".noise", "absent (no measurement noise)");
   }
   // The operating point documents where A and B come from; nothing reads it.
   r.markUsed(prefix + ".operating_point");

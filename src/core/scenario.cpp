@@ -37,47 +37,53 @@ double readUntil(ParamReader& r, const std::string& key, double prev) {
 }
 }  // namespace
 
+namespace {
+// One list of segments under `key`: each entry's `until` is checked to increase, then
+// `value(entry_key)` reads the rest; one loop for theta and r.
+template <typename Segment, typename ReadValue>
+std::vector<Segment> readSegments(ParamReader& r, const std::string& key, ReadValue value) {
+  std::vector<Segment> out;
+  const int count = r.getListSize(key);
+  double prev = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const std::string seg = key + "." + std::to_string(i);
+    Segment s;
+    s.until = readUntil(r, seg + ".until", prev);
+    prev = std::max(prev, s.until);
+    value(seg, &s);
+    out.push_back(s);
+  }
+  return out;
+}
+}  // namespace
+
 Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
   Scenario sc;
   sc.name = r.getString(prefix + ".name");
   sc.description = r.getString(prefix + ".description", "");
 
-  const std::string tk = prefix + ".theta";
-  const int nt = r.getListSize(tk);
-  double prev = 0.0;
-  for (int i = 0; i < nt; ++i) {
-    const std::string seg = tk + "." + std::to_string(i);
-    ThetaSegment s;
-    s.until = readUntil(r, seg + ".until", prev);
-    prev = std::max(prev, s.until);
-    const bool has_scale = r.has(seg + ".scale"), has_vec = r.has(seg + ".theta");
-    if (has_scale == has_vec) {
-      r.fail(seg, "give exactly one of 'scale' (theta = scale * ones) or 'theta' (a list of " +
-                      std::to_string(n) + " numbers)");
-      s.theta = Eigen::VectorXd::Zero(n);
-    } else if (has_scale) {
-      s.theta = Eigen::VectorXd::Constant(n, r.getDouble(seg + ".scale"));
-    } else {
-      s.theta = r.getVector(seg + ".theta", n);
-    }
-    sc.theta.push_back(s);
-  }
+  sc.theta = readSegments<ThetaSegment>(
+      r, prefix + ".theta", [&](const std::string& seg, ThetaSegment* s) {
+        const bool has_scale = r.has(seg + ".scale"), has_vec = r.has(seg + ".theta");
+        if (has_scale == has_vec) {
+          r.fail(seg, "give exactly one of 'scale' (theta = scale * ones) or 'theta' (a list of " +
+                          std::to_string(n) + " numbers)");
+          s->theta = Eigen::VectorXd::Zero(n);
+        } else if (has_scale) {
+          s->theta = Eigen::VectorXd::Constant(n, r.getDouble(seg + ".scale"));
+        } else {
+          s->theta = r.getVector(seg + ".theta", n);
+        }
+      });
 
   const std::string rk = prefix + ".reference";
   if (!r.has(rk)) {
     r.markUsed(rk);
     sc.reference.push_back({sc.endTime(), 0.1});
+    r.noteDefault(rk, "absent (r = 0.1 rad throughout)");
   } else {
-    const int nr = r.getListSize(rk);
-    double rprev = 0.0;
-    for (int i = 0; i < nr; ++i) {
-      const std::string seg = rk + "." + std::to_string(i);
-      RefSegment s;
-      s.until = readUntil(r, seg + ".until", rprev);
-      rprev = std::max(rprev, s.until);
-      s.r = r.getDouble(seg + ".r");
-      sc.reference.push_back(s);
-    }
+    sc.reference = readSegments<RefSegment>(
+        r, rk, [&](const std::string& seg, RefSegment* s) { s->r = r.getDouble(seg + ".r"); });
     if (!sc.reference.empty() && !sc.theta.empty() && sc.reference.back().until < sc.endTime())
       r.fail(rk, "the last reference segment must reach the scenario end " +
                      formatNumber(sc.endTime()) + " s, it ends at " +

@@ -73,159 +73,89 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
     }
   }
   r.throwIfProblems();
+  rc.defaults_used = r.defaultsUsed();
   return rc;
 }
 
 namespace {
-
-class Json {
- public:
-  std::string str() const { return os_.str(); }
-  Json& raw(const std::string& s) {
-    os_ << s;
-    return *this;
-  }
-  Json& num(double v) {
-    if (!std::isfinite(v)) {
-      os_ << "null";
-    } else {
-      char buf[40];
-      std::snprintf(buf, sizeof(buf), "%.17g", v);
-      os_ << buf;
-    }
-    return *this;
-  }
-  Json& str(const std::string& s) {
-    os_ << '"';
-    for (char c : s) {
-      switch (c) {
-        case '"':
-          os_ << "\\\"";
-          break;
-        case '\\':
-          os_ << "\\\\";
-          break;
-        case '\n':
-          os_ << "\\n";
-          break;
-        case '\t':
-          os_ << "\\t";
-          break;
-        default:
-          if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-            os_ << buf;
-          } else {
-            os_ << c;
-          }
-      }
-    }
-    os_ << '"';
-    return *this;
-  }
-  template <typename V>
-  Json& vec(const V& v) {
-    os_ << '[';
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
-      if (i) os_ << ',';
-      num(v[i]);
-    }
-    os_ << ']';
-    return *this;
-  }
-  Json& key(const std::string& k) {
-    str(k);
-    os_ << ':';
-    return *this;
-  }
-
- private:
-  std::ostringstream os_;
-};
-
+template <typename V>
+nlohmann::ordered_json vec(const V& v) {
+  auto a = nlohmann::ordered_json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
+  return a;
+}
 }  // namespace
 
-std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const SimResult& res) {
-  Json j;
+nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl,
+                                  const SimResult& res) {
+  using J = nlohmann::ordered_json;
   const auto& d = ctl.design();
-  j.raw("{").key("scenario").str(info.scenario);
-  j.raw(",").key("mode").str(info.mode);
-  j.raw(",").key("seed").num(static_cast<double>(info.seed));
-  j.raw(",").key("dt").num(info.dt);
-  j.raw(",").key("overrides").raw("[");
-  for (size_t i = 0; i < info.overrides.size(); ++i) {
-    if (i) j.raw(",");
-    j.str(info.overrides[i]);
-  }
-  j.raw("]");
-  j.raw(",").key("K").vec(d.K);
-  j.raw(",").key("P").raw("[");
-  for (int i = 0; i < d.P.rows(); ++i) {
-    if (i) j.raw(",");
-    j.vec(d.P.row(i));
-  }
-  j.raw("]");
-  j.raw(",").key("care_residual").num(d.care_residual);
-  j.raw(",").key("lyapunov_residual").num(d.lyapunov_residual);
-  j.raw(",").key("steps").num(static_cast<double>(res.steps));
-  j.raw(",").key("events").raw("[");
-  for (size_t i = 0; i < res.events.size(); ++i) {
-    const Event& e = res.events[i];
-    if (i) j.raw(",");
-    j.raw("{").key("type").str(eventTypeName(e.type));
-    j.raw(",").key("t").num(e.t);
-    j.raw(",").key("e").num(e.e);
-    j.raw(",").key("e_dot").num(e.e_dot);
-    j.raw(",").key("theta_hat_before").vec(e.theta_hat_before);
+  J j;
+  j["scenario"] = info.scenario;
+  j["mode"] = info.mode;
+  j["seed"] = info.seed;
+  j["dt"] = info.dt;
+  j["overrides"] = info.overrides;
+  j["K"] = vec(d.K);
+  j["P"] = J::array();
+  for (int i = 0; i < d.P.rows(); ++i) j["P"].push_back(vec(d.P.row(i)));
+  j["care_residual"] = d.care_residual;
+  j["lyapunov_residual"] = d.lyapunov_residual;
+  j["steps"] = res.steps;
+  j["events"] = J::array();
+  for (const Event& e : res.events) {
+    J o;
+    o["type"] = eventTypeName(e.type);
+    o["t"] = e.t;
+    o["e"] = e.e;
+    o["e_dot"] = e.e_dot;
+    o["theta_hat_before"] = vec(e.theta_hat_before);
     if (e.type == Event::Type::kOnset) {
-      j.raw(",").key("reset").raw(e.reset ? "true" : "false");
-      if (e.reset) j.raw(",").key("theta_hat_reset").vec(e.theta_hat_after);
+      o["reset"] = e.reset;
+      if (e.reset) o["theta_hat_reset"] = vec(e.theta_hat_after);
     }
     if (e.decision != Event::Decision::kNone) {  // pa_robust: what verification chose
-      j.raw(",").key("decision").str(decisionName(e.decision));
-      j.raw(",").key("chosen").num(e.chosen);
-      j.raw(",").key("candidates").num(e.candidates);
-      j.raw(",").key("score").num(e.score);
-      j.raw(",").key("score_keep").num(e.score_keep);
-      j.raw(",").key("theta_hat_after").vec(e.theta_hat_after);
+      o["decision"] = decisionName(e.decision);
+      o["chosen"] = e.chosen;
+      o["candidates"] = e.candidates;
+      o["score"] = e.score;
+      o["score_keep"] = e.score_keep;
+      o["theta_hat_after"] = vec(e.theta_hat_after);
     }
     if (e.type == Event::Type::kRecovered) {
-      j.raw(",").key("cost").num(e.cost);
-      j.raw(",").key("learned").raw(e.learned ? "true" : "false");
-      if (e.learned) j.raw(",").key("grad").vec(e.grad);
+      o["cost"] = e.cost;
+      o["learned"] = e.learned;
+      if (e.learned) o["grad"] = vec(e.grad);
     }
-    j.raw(",").key("episodes").num(static_cast<double>(e.episodes));
-    j.raw("}");
+    o["episodes"] = e.episodes;
+    j["events"].push_back(std::move(o));
   }
-  j.raw("]");
-  j.raw(",").key("windows").raw("[");
-  for (size_t i = 0; i < res.metrics.windows.size(); ++i) {
-    const WindowMetrics& w = res.metrics.windows[i];
-    if (i) j.raw(",");
-    j.raw("{").key("t_start").num(w.t_start);
-    j.raw(",").key("t_end").num(w.t_end);
-    j.raw(",").key("theta").vec(w.theta);
-    j.raw(",").key("peak_abs_e").num(w.peak_abs_e);
-    j.raw(",").key("iae").num(w.iae);
-    j.raw(",").key("recovery_time");
-    if (w.recovery_time >= 0.0)
-      j.num(w.recovery_time);
-    else
-      j.raw("null");
-    j.raw(",").key("onsets").num(w.onsets);
-    j.raw(",").key("recoveries").num(w.recoveries);
-    j.raw("}");
+  j["windows"] = J::array();
+  for (const WindowMetrics& w : res.metrics.windows) {
+    J o;
+    o["t_start"] = w.t_start;
+    o["t_end"] = w.t_end;
+    o["theta"] = vec(w.theta);
+    o["peak_abs_e"] = w.peak_abs_e;
+    o["iae"] = w.iae;
+    o["recovery_time"] = w.recovery_time >= 0.0 ? J(w.recovery_time) : J(nullptr);
+    o["onsets"] = w.onsets;
+    o["recoveries"] = w.recoveries;
+    j["windows"].push_back(std::move(o));
   }
-  j.raw("]");
-  j.raw(",").key("iae").num(res.metrics.iae);
-  j.raw(",").key("peak_abs_e").num(res.metrics.peak_abs_e);
-  j.raw(",").key("max_abs_u").num(res.metrics.max_abs_u);
-  j.raw(",").key("episodes").num(static_cast<double>(ctl.network().state().episodes));
-  j.raw(",").key("theta_hat_final").vec(ctl.thetaHat());
-  j.raw(",").key("wall_time_s").num(info.wall_time_s);
-  j.raw("}");
-  return j.str();
+  j["iae"] = res.metrics.iae;
+  j["peak_abs_e"] = res.metrics.peak_abs_e;
+  j["max_abs_u"] = res.metrics.max_abs_u;
+  j["episodes"] = ctl.network().state().episodes;
+  j["theta_hat_final"] = vec(ctl.thetaHat());
+  j["regimes"] = ctl.network().state().regimes.size();
+  j["defaults"] = info.defaults_used;
+  j["wall_time_s"] = info.wall_time_s;
+  return j;
+}
+
+std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const SimResult& res) {
+  return runSummary(info, ctl, res).dump();
 }
 
 std::string scenarioToYaml(const Scenario& sc) {
@@ -236,8 +166,8 @@ std::string scenarioToYaml(const Scenario& sc) {
   };
   std::ostringstream os;
   os << "scenario:\n";
-  os << "  name: " << Json().str(sc.name).str() << "\n";
-  os << "  description: " << Json().str(sc.description).str() << "\n";
+  os << "  name: " << nlohmann::json(sc.name).dump() << "\n";
+  os << "  description: " << nlohmann::json(sc.description).dump() << "\n";
   os << "  theta:\n";
   for (const auto& seg : sc.theta) {
     os << "    - {until: " << num(seg.until) << ", theta: [";

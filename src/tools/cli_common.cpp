@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 #include <memory>
 
 #include "preadaptive_mrac/io/weights_io.hpp"
@@ -11,28 +12,52 @@
 namespace preadaptive_mrac {
 namespace cli {
 
-std::string nextArg(int argc, char** argv, int* i) {
-  const std::string flag = argv[*i];
-  if (*i + 1 >= argc) throw UsageError(flag + ": missing value");
-  return argv[++*i];
+CLI::Option* addText(CLI::App& app, const std::string& name, std::string* out,
+                     const std::string& help) {
+  return app.add_option(name, *out, help)->expected(1)->type_name("TEXT");
 }
 
-bool takeRunFlag(int argc, char** argv, int* i, RunRequest* req, bool* have_scenario) {
-  const std::string a = argv[*i];
-  if (a == "--scenario") {
-    req->scenario = nextArg(argc, argv, i);
-    *have_scenario = true;
-  } else if (a == "--dt") {
-    req->dt = parseDouble("--dt", nextArg(argc, argv, i));
-  } else if (a == "--set") {
-    req->sets.push_back(nextArg(argc, argv, i));
-  } else if (a == "--plant") {
-    req->plant_path = nextArg(argc, argv, i);
-  } else if (a == "--controller") {
-    req->controller_path = nextArg(argc, argv, i);
-  } else {
+CLI::Option* addTexts(CLI::App& app, const std::string& name, std::vector<std::string>* out,
+                      const std::string& help) {
+  return app.add_option(name, *out, help)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->type_name("TEXT");
+}
+
+void addRunOptions(CLI::App& app, RunRequest* req, RunOptionText* text, bool with_scenario) {
+  if (with_scenario)
+    addText(app, "--scenario", &req->scenario, "1, 2, 3 or the path of a scenario YAML");
+  addText(app, "--dt", &text->dt, "sample time = integration step [s] (default: the YAML's)");
+  addTexts(app, "--set", &req->sets,
+           "key=value override of a dotted YAML path, e.g. controller.attention.c_e=0.01 "
+           "(repeatable)");
+  addText(app, "--plant", &req->plant_path, "plant YAML (default config/plant/b747.yaml)");
+  addText(app, "--controller", &req->controller_path,
+          "controller YAML (default config/controller/default.yaml)");
+}
+
+void finishRunOptions(const RunOptionText& text, RunRequest* req) {
+  if (!text.dt.empty()) req->dt = parseDouble("--dt", text.dt);
+}
+
+bool parseCommandLine(CLI::App& app, int argc, char** argv) {
+  app.allow_extras(true);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
     return false;
+  } catch (const CLI::ArgumentMismatch& e) {
+    // "--seed" without its value: name the flag as the old parser did.
+    std::string flag = e.what();
+    flag = flag.substr(0, flag.find_first_of(": "));
+    throw UsageError(flag + ": missing value");
+  } catch (const CLI::ParseError& e) {
+    throw UsageError(e.what());
   }
+  const auto extra = app.remaining();
+  if (!extra.empty()) throw UsageError("unknown argument '" + extra.front() + "' (see --help)");
   return true;
 }
 
@@ -120,6 +145,7 @@ PreparedRun prepare(const RunRequest& req) {
   run.info.seed = run.cfg.controller.seed;
   run.info.dt = run.cfg.controller.sample_time;
   run.info.overrides = req.sets;
+  run.info.defaults_used = run.cfg.defaults_used;
   return run;
 }
 

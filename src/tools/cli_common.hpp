@@ -3,6 +3,7 @@
 /// \brief What preadapt_sim and preadapt_sweep share: loading the layered YAML, applying
 /// overrides and flags, running one closed loop, and usage errors (exit code 2).
 
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -46,11 +47,25 @@ PreparedRun prepare(const RunRequest& req);
 SimResult execute(const PreparedRun& run, bool record_series,
                   std::unique_ptr<Controller>* controller);
 
-/// \brief The value after flag argv[*i]; advances *i. Throws UsageError when it is missing.
-std::string nextArg(int argc, char** argv, int* i);
-/// \brief Take one of the flags both tools share (--scenario, --dt, --set, --plant,
-/// --controller) into `req`; false when argv[*i] is none of them.
-bool takeRunFlag(int argc, char** argv, int* i, RunRequest* req, bool* have_scenario);
+/// \brief The flags every tool shares, as text until finishRunOptions() checks them.
+struct RunOptionText {
+  std::string dt;
+};
+/// \brief Add --dt, --set, --plant, --controller (and --scenario when `with_scenario`) to a
+/// CLI11 app, bound to `req`.
+void addRunOptions(CLI::App& app, RunRequest* req, RunOptionText* text, bool with_scenario);
+/// \brief Check what addRunOptions() bound (--dt a finite number). Throws UsageError.
+void finishRunOptions(const RunOptionText& text, RunRequest* req);
+/// \brief An option whose value is a text that the tool checks itself (one value, repeatable
+/// only when `repeat`); CLI11 does the parsing, the tool the messages.
+CLI::Option* addText(CLI::App& app, const std::string& name, std::string* out,
+                     const std::string& help);
+CLI::Option* addTexts(CLI::App& app, const std::string& name, std::vector<std::string>* out,
+                      const std::string& help);
+/// \brief Parse argv. Returns true when the tool should go on; false after printing the
+/// generated --help (exit code 0). Any parse problem throws UsageError with one line in this
+/// package's words ("unknown argument '--x' (see --help)", "--seed: missing value").
+bool parseCommandLine(CLI::App& app, int argc, char** argv);
 
 double parseDouble(const std::string& flag, const std::string& text);
 std::uint64_t parseSeed(const std::string& flag, const std::string& text);

@@ -19,19 +19,15 @@
 using namespace preadaptive_mrac;
 
 namespace {
-const char* kUsage =
-    "usage: preadapt_family --seed N [--count 30] [--modes rac,pa_learn,pa_robust,oracle]\n"
-    "                       [--noise STD] [--regimes 3] [--segments 10] [--ref-every S]\n"
-    "                       [--set key=value]... [--plant F] [--controller F]\n"
-    "                       [--out-dir DIR] [--json] [--jobs N]\n"
-    "Generates `count` recurring-regime scenarios from the family seed (a first 5 s at\n"
-    "theta = 0.1 ones, then `segments` segments of 10-20 s switching between `regimes` full\n"
-    "theta vectors with scales 0.5-10, each visited at least twice), runs rac and every mode on\n"
-    "each with the same seeded noise (STD [rad, rad/s] on alpha and q), and prints per mode,\n"
-    "over the repeated-switch windows, the fraction better than rac (peak |e| ratio < 1), the\n"
-    "fraction halved (<= 0.5), the median and worst ratio; per scenario the worst IAE ratio\n"
-    "and max|u| ratio to rac and to the oracle. --out-dir writes scenario_K.yaml and\n"
-    "runs.jsonl (one preadapt_sim --json line per run). Exit code 2 on bad input.\n";
+const char* kAbout =
+    "Generates `count` recurring-regime scenarios from the family seed (a first 5 s at theta = "
+    "0.1 ones, then `segments` segments of 10-20 s switching between `regimes` full theta "
+    "vectors with scales 0.5-10, each visited at least twice), runs rac and every mode on each "
+    "with the same seeded noise (STD [rad, rad/s] on alpha and q), and prints per mode, over the "
+    "repeated-switch windows, the fraction better than rac (peak |e| ratio < 1), the fraction "
+    "halved (<= 0.5), the median and worst ratio; per scenario the worst IAE ratio and max|u| "
+    "ratio to rac and to the oracle. --out-dir writes scenario_K.yaml and runs.jsonl (one "
+    "preadapt_sim --json line per run). Exit code 2 on bad input.";
 
 struct Job {
   int scenario = 0;
@@ -54,47 +50,52 @@ int main(int argc, char** argv) {
     std::string out_dir;
     bool json = false;
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      bool dummy = false;
-      if (a != "--scenario" && cli::takeRunFlag(argc, argv, &i, &base, &dummy)) continue;
-      if (a == "--help" || a == "-h") {
-        std::cout << kUsage;
-        return 0;
-      } else if (a == "--seed") {
-        seed = cli::parseSeed("--seed", cli::nextArg(argc, argv, &i));
-      } else if (a == "--count") {
-        const auto c = cli::parseSeed("--count", cli::nextArg(argc, argv, &i));
-        if (c < 1 || c > 100000) throw cli::UsageError("--count: expected 1..100000");
-        count = static_cast<int>(c);
-      } else if (a == "--modes") {
-        modes.clear();
-        for (const auto& m : cli::splitTopLevel(cli::nextArg(argc, argv, &i))) {
-          if (!parseMode(m)) throw cli::UsageError("--modes: unknown mode '" + m + "'");
-          modes.push_back(m);
-        }
-      } else if (a == "--noise") {
-        noise = cli::parseDouble("--noise", cli::nextArg(argc, argv, &i));
-        if (noise < 0.0) throw cli::UsageError("--noise: must be >= 0");
-      } else if (a == "--regimes") {
-        spec.regimes = static_cast<int>(cli::parseSeed("--regimes", cli::nextArg(argc, argv, &i)));
-      } else if (a == "--segments") {
-        spec.segments =
-            static_cast<int>(cli::parseSeed("--segments", cli::nextArg(argc, argv, &i)));
-      } else if (a == "--ref-every") {
-        spec.ref_every = cli::parseDouble("--ref-every", cli::nextArg(argc, argv, &i));
-        if (spec.ref_every < 0.0) throw cli::UsageError("--ref-every: must be >= 0");
-      } else if (a == "--out-dir") {
-        out_dir = cli::nextArg(argc, argv, &i);
-      } else if (a == "--json") {
-        json = true;
-      } else if (a == "--jobs") {
-        const auto j = cli::parseSeed("--jobs", cli::nextArg(argc, argv, &i));
-        if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
-        jobs = static_cast<unsigned>(j);
-      } else {
-        throw cli::UsageError("unknown argument '" + a + "' (see --help)");
+    CLI::App app{kAbout, "preadapt_family"};
+    cli::RunOptionText text;
+    std::string seed_t, count_t, modes_t, noise_t, regimes_t, segments_t, ref_t, jobs_t;
+    cli::addRunOptions(app, &base, &text, false);
+    cli::addText(app, "--seed", &seed_t, "the family's generator seed (required)");
+    cli::addText(app, "--count", &count_t, "scenarios (default 30)");
+    cli::addText(app, "--modes", &modes_t,
+                 "modes to compare with rac (default rac,pa,pa_learn,pa_learn_exact,pa_robust,"
+                 "oracle)");
+    cli::addText(app, "--noise", &noise_t, "measurement noise std on alpha and q (default 0)");
+    cli::addText(app, "--regimes", &regimes_t, "distinct regimes (default 3)");
+    cli::addText(app, "--segments", &segments_t, "segments after the first (default 10)");
+    cli::addText(app, "--ref-every", &ref_t, "reference steps about every S seconds (default off)");
+    cli::addText(app, "--out-dir", &out_dir, "write the scenarios and every run's JSON here");
+    app.add_flag("--json", json, "also print one JSON line per mode with every ratio");
+    cli::addText(app, "--jobs", &jobs_t, "threads (default: all cores)");
+    if (!cli::parseCommandLine(app, argc, argv)) return 0;
+    cli::finishRunOptions(text, &base);
+    if (!seed_t.empty()) seed = cli::parseSeed("--seed", seed_t);
+    if (!count_t.empty()) {
+      const auto c = cli::parseSeed("--count", count_t);
+      if (c < 1 || c > 100000) throw cli::UsageError("--count: expected 1..100000");
+      count = static_cast<int>(c);
+    }
+    if (!modes_t.empty()) {
+      modes.clear();
+      for (const auto& m : cli::splitTopLevel(modes_t)) {
+        if (!parseMode(m)) throw cli::UsageError("--modes: unknown mode '" + m + "'");
+        modes.push_back(m);
       }
+    }
+    if (!noise_t.empty()) {
+      noise = cli::parseDouble("--noise", noise_t);
+      if (noise < 0.0) throw cli::UsageError("--noise: must be >= 0");
+    }
+    if (!regimes_t.empty()) spec.regimes = static_cast<int>(cli::parseSeed("--regimes", regimes_t));
+    if (!segments_t.empty())
+      spec.segments = static_cast<int>(cli::parseSeed("--segments", segments_t));
+    if (!ref_t.empty()) {
+      spec.ref_every = cli::parseDouble("--ref-every", ref_t);
+      if (spec.ref_every < 0.0) throw cli::UsageError("--ref-every: must be >= 0");
+    }
+    if (!jobs_t.empty()) {
+      const auto j = cli::parseSeed("--jobs", jobs_t);
+      if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
+      jobs = static_cast<unsigned>(j);
     }
     if (!seed) throw cli::UsageError("--seed is required (the family's generator seed)");
     if (spec.regimes < 1 || spec.regimes > 50) throw cli::UsageError("--regimes: expected 1..50");
@@ -207,18 +208,24 @@ int main(int argc, char** argv) {
                   s.worst_ratio, s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio,
                   s.iae_over, s.worst_u_rac, s.worst_u_oracle);
       if (json) {
-        std::printf(
-            "{\"mode\":\"%s\",\"seed\":%llu,\"count\":%d,\"noise\":%.17g,\"windows\":%d,"
-            "\"frac_better\":%.17g,\"frac_halved\":%.17g,\"median_ratio\":%.17g,"
-            "\"worst_ratio\":%.17g,\"all_median_ratio\":%.17g,\"all_worst_ratio\":%.17g,"
-            "\"worst_iae_ratio\":%.17g,\"iae_over_5pct\":%d,\"worst_u_rac\":%.17g,"
-            "\"worst_u_oracle\":%.17g,\"ratios\":[",
-            m.c_str(), static_cast<unsigned long long>(*seed), count, noise, s.windows,
-            s.frac_better, s.frac_halved, s.median_ratio, s.worst_ratio, s.all_median_ratio,
-            s.all_worst_ratio, s.worst_iae_ratio, s.iae_over, s.worst_u_rac, s.worst_u_oracle);
-        for (size_t i = 0; i < s.ratios.size(); ++i)
-          std::printf("%s%.17g", i ? "," : "", s.ratios[i]);
-        std::printf("]}\n");
+        nlohmann::ordered_json o;
+        o["mode"] = m;
+        o["seed"] = *seed;
+        o["count"] = count;
+        o["noise"] = noise;
+        o["windows"] = s.windows;
+        o["frac_better"] = s.frac_better;
+        o["frac_halved"] = s.frac_halved;
+        o["median_ratio"] = s.median_ratio;
+        o["worst_ratio"] = s.worst_ratio;
+        o["all_median_ratio"] = s.all_median_ratio;
+        o["all_worst_ratio"] = s.all_worst_ratio;
+        o["worst_iae_ratio"] = s.worst_iae_ratio;
+        o["iae_over_5pct"] = s.iae_over;
+        o["worst_u_rac"] = s.worst_u_rac;
+        o["worst_u_oracle"] = s.worst_u_oracle;
+        o["ratios"] = s.ratios;
+        std::printf("%s\n", o.dump().c_str());
       }
     }
     return 0;

@@ -12,47 +12,31 @@
 
 using namespace preadaptive_mrac;
 
-namespace {
-const char* kUsage =
-    "usage: preadapt_sim --scenario <1|2|3|path.yaml>\n"
-    "                    --mode <rac|pa|pa_learn|pa_learn_exact|pa_robust|oracle>\n"
-    "                    [--seed N] [--dt S] [--set key=value]... [--csv out.csv] [--json]\n"
-    "                    [--plant plant.yaml] [--controller controller.yaml]\n"
-    "                    [--weights-in w.yaml] [--weights-out w.yaml]\n"
-    "Runs plant + controller in closed loop. Keys for --set are dotted YAML paths, e.g.\n"
-    "controller.attention.c_e=0.01 or scenario.reference.0.r=0.05. Exit code 2 on bad input.\n";
-
-}  // namespace
-
 int main(int argc, char** argv) {
   cli::RunRequest req;
   std::string csv, weights_out;
   bool json = false;
   try {
-    bool have_scenario = false;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (cli::takeRunFlag(argc, argv, &i, &req, &have_scenario)) continue;
-      if (a == "--help" || a == "-h") {
-        std::cout << kUsage;
-        return 0;
-      } else if (a == "--mode") {
-        req.mode = cli::nextArg(argc, argv, &i);
-      } else if (a == "--seed") {
-        req.seed = cli::parseSeed("--seed", cli::nextArg(argc, argv, &i));
-      } else if (a == "--csv") {
-        csv = cli::nextArg(argc, argv, &i);
-      } else if (a == "--json") {
-        json = true;
-      } else if (a == "--weights-in") {
-        req.weights_in = cli::nextArg(argc, argv, &i);
-      } else if (a == "--weights-out") {
-        weights_out = cli::nextArg(argc, argv, &i);
-      } else {
-        throw cli::UsageError("unknown argument '" + a + "' (see --help)");
-      }
-    }
-    if (!have_scenario) throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+    CLI::App app{
+        "Batch simulator: plant + controller in closed loop, no ROS master. Keys for --set are "
+        "dotted YAML paths, e.g. controller.attention.c_e=0.01 or scenario.reference.0.r=0.05. "
+        "Exit code 2 on bad input, with one line naming what is wrong.",
+        "preadapt_sim"};
+    cli::RunOptionText text;
+    std::string mode, seed;
+    cli::addRunOptions(app, &req, &text, true);
+    cli::addText(app, "--mode", &mode, "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle");
+    cli::addText(app, "--seed", &seed, "seed of the network's initial weights");
+    cli::addText(app, "--csv", &csv, "write the time series to this CSV file");
+    app.add_flag("--json", json, "print one JSON summary line (the last line)");
+    cli::addText(app, "--weights-in", &req.weights_in, "load network weights and regimes");
+    cli::addText(app, "--weights-out", &weights_out, "save network weights and regimes");
+    if (!cli::parseCommandLine(app, argc, argv)) return 0;
+    if (app.count("--scenario") == 0)
+      throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+    cli::finishRunOptions(text, &req);
+    if (app.count("--mode")) req.mode = mode;
+    if (app.count("--seed")) req.seed = cli::parseSeed("--seed", seed);
 
     cli::PreparedRun run = cli::prepare(req);
     const auto t0 = std::chrono::steady_clock::now();
@@ -76,6 +60,11 @@ int main(int argc, char** argv) {
         std::printf("%-8.2f %-8.2f %-10.3g %-12.5g %-12.5g %s\n", w.t_start, w.t_end,
                     w.theta.size() ? w.theta[0] : 0.0, w.peak_abs_e, w.iae,
                     w.recovery_time >= 0 ? std::to_string(w.recovery_time).c_str() : "-");
+      if (!run.cfg.defaults_used.empty()) {
+        std::string line;
+        for (const auto& d : run.cfg.defaults_used) line += (line.empty() ? "" : ", ") + d;
+        std::printf("optional keys filled with defaults: %s\n", line.c_str());
+      }
       std::printf("events: %zu; IAE %.6g rad s, peak |e| %.6g rad, max |u| %.6g rad\n",
                   res.events.size(), res.metrics.iae, res.metrics.peak_abs_e,
                   res.metrics.max_abs_u);

@@ -14,17 +14,6 @@
 using namespace preadaptive_mrac;
 
 namespace {
-const char* kUsage =
-    "usage: preadapt_sweep --scenario <1|2|3|path.yaml> [--modes rac,pa_learn,...]\n"
-    "                      [--seeds 1-20 | --seeds 1,5,9] [--grid key=v1,v2,...]...\n"
-    "                      [--set key=value]... [--dt S] [--jobs N]\n"
-    "                      [--plant plant.yaml] [--controller controller.yaml]\n"
-    "Runs the cartesian product of modes, seeds and every --grid axis on N threads\n"
-    "(default: all cores) and prints one JSON line per run, in a fixed order, each with\n"
-    "a \"grid\" object naming its settings and an \"index\". Exit code 2 on bad input.\n"
-    "Example: preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 \\\n"
-    "           --grid controller.attention.c_e=0.003,0.005,0.01\n";
-
 std::vector<std::uint64_t> parseSeeds(const std::string& text) {
   std::vector<std::uint64_t> out;
   for (const auto& part : cli::splitTopLevel(text)) {
@@ -47,14 +36,6 @@ struct Axis {
   std::vector<std::string> values;
 };
 
-std::string jsonEscape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o;
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,38 +45,46 @@ int main(int argc, char** argv) {
     std::vector<std::uint64_t> seeds;
     std::vector<Axis> axes;
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-    bool have_scenario = false;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (cli::takeRunFlag(argc, argv, &i, &base, &have_scenario)) continue;
-      if (a == "--help" || a == "-h") {
-        std::cout << kUsage;
-        return 0;
-      } else if (a == "--modes" || a == "--mode") {
-        for (const auto& m : cli::splitTopLevel(cli::nextArg(argc, argv, &i))) {
-          if (!parseMode(m))
-            throw cli::UsageError(
-                "--modes: unknown mode '" + m +
-                "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust or oracle)");
-          modes.push_back(m);
-        }
-      } else if (a == "--seeds") {
-        seeds = parseSeeds(cli::nextArg(argc, argv, &i));
-      } else if (a == "--grid") {
-        const std::string g = cli::nextArg(argc, argv, &i);
-        const auto eq = g.find('=');
-        if (eq == std::string::npos || eq == 0 || eq + 1 == g.size())
-          throw cli::UsageError("--grid '" + g + "': expected key=v1,v2,...");
-        axes.push_back({g.substr(0, eq), cli::splitTopLevel(g.substr(eq + 1))});
-      } else if (a == "--jobs") {
-        const auto j = cli::parseSeed("--jobs", cli::nextArg(argc, argv, &i));
-        if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
-        jobs = static_cast<unsigned>(j);
-      } else {
-        throw cli::UsageError("unknown argument '" + a + "' (see --help)");
+    CLI::App app{
+        "Runs the cartesian product of modes, seeds and every --grid axis on N threads (default: "
+        "all cores) and prints one JSON line per run, in a fixed order, each with a \"grid\" "
+        "object naming its settings and an \"index\". Exit code 2 on bad input. Example: "
+        "preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 --grid "
+        "controller.attention.c_e=0.003,0.005,0.01",
+        "preadapt_sweep"};
+    cli::RunOptionText text;
+    std::string modes_text, seeds_text, jobs_text;
+    std::vector<std::string> grids;
+    cli::addRunOptions(app, &base, &text, true);
+    cli::addText(app, "--modes", &modes_text, "comma-separated modes (rac, pa, pa_learn, ...)");
+    cli::addText(app, "--mode", &modes_text, "the same as --modes");
+    cli::addText(app, "--seeds", &seeds_text, "network seeds: 1-20 or 1,5,9");
+    cli::addTexts(app, "--grid", &grids, "key=v1,v2,... (repeatable; the last axis runs fastest)");
+    cli::addText(app, "--jobs", &jobs_text, "threads (default: all cores)");
+    if (!cli::parseCommandLine(app, argc, argv)) return 0;
+    if (app.count("--scenario") == 0)
+      throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+    cli::finishRunOptions(text, &base);
+    if (!modes_text.empty())
+      for (const auto& m : cli::splitTopLevel(modes_text)) {
+        if (!parseMode(m))
+          throw cli::UsageError("--modes: unknown mode '" + m +
+                                "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust or "
+                                "oracle)");
+        modes.push_back(m);
       }
+    if (!seeds_text.empty()) seeds = parseSeeds(seeds_text);
+    for (const auto& g : grids) {
+      const auto eq = g.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == g.size())
+        throw cli::UsageError("--grid '" + g + "': expected key=v1,v2,...");
+      axes.push_back({g.substr(0, eq), cli::splitTopLevel(g.substr(eq + 1))});
     }
-    if (!have_scenario) throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+    if (!jobs_text.empty()) {
+      const auto j = cli::parseSeed("--jobs", jobs_text);
+      if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
+      jobs = static_cast<unsigned>(j);
+    }
 
     // Build the run list: modes x seeds x grid (last axis fastest). Prepare (and so validate)
     // every run before starting any, so a bad grid value fails fast with exit code 2.
@@ -149,13 +138,13 @@ int main(int argc, char** argv) {
           SimResult res = cli::execute(job.run, false, &ctl);
           job.run.info.wall_time_s =
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          line = runSummaryJson(job.run.info, *ctl, res);
-          std::string grid = "{";
-          for (size_t k = 0; k < job.grid.size(); ++k)
-            grid += (k ? ",\"" : "\"") + jsonEscape(job.grid[k].first) + "\":\"" +
-                    jsonEscape(job.grid[k].second) + "\"";
-          grid += "}";
-          line = "{\"index\":" + std::to_string(i) + ",\"grid\":" + grid + "," + line.substr(1);
+          nlohmann::ordered_json out;
+          out["index"] = i;
+          out["grid"] = nlohmann::ordered_json::object();
+          for (const auto& kv : job.grid) out["grid"][kv.first] = kv.second;
+          for (const auto& kv : runSummary(job.run.info, *ctl, res).items())
+            out[kv.key()] = kv.value();
+          line = out.dump();
         } catch (const std::exception& e) {
           std::lock_guard<std::mutex> lk(mu);
           if (failure.empty()) failure = "run " + std::to_string(i) + ": " + e.what();

@@ -118,6 +118,10 @@ struct StepInput {
   const Vec* x = nullptr;           ///< measured state [e_I, alpha, q]
   double r = 0.0;                   ///< command [rad]
   const Vec* theta_true = nullptr;  ///< simulation truth; needed by pa_learn_exact only
+  /// Elevator the plant applied over [t_{k-1}, t_k] [rad] (PlantState.elevator); null: the
+  /// controller's own last answer. pa_robust identifies the plant from it, so a command the
+  /// plant did not apply (a stale-timer command in lockstep) must not be taken for it.
+  const double* u_applied = nullptr;
 };
 
 /// \brief Output of one controller step.
@@ -225,8 +229,9 @@ class Controller {
   /// \brief Derives K (CARE) and P (Lyapunov) from the plant's A, B and the config's Q, R;
   /// throws SolverError when that is impossible. The plant is known only through A, B, B1r.
   Controller(const PlantConfig& plant, const ControllerConfig& cfg);
-  Controller(const Controller&) = delete;  // the strategy points at this controller's network
-  Controller& operator=(const Controller&) = delete;
+  /// \brief A snapshot: the copy has its own network and strategy state.
+  Controller(const Controller& other);
+  Controller& operator=(const Controller& other);
 
   /// \brief One sample. Allocation-free.
   StepOutput step(const StepInput& in);
@@ -271,7 +276,9 @@ class Controller {
 
   Vec x0_, x_r_, theta_hat_, ev_, upd_;
   ActuatorLimits limits_;
-  double u_prev_ = 0.0, r_prev_ = 0.0;
+  double u_prev_ = 0.0;      // last command sent (the rate limiter's memory; safeCommand too)
+  double u_cmd_prev_ = 0.0;  // last answer of step() (what the plant applies in lockstep)
+  double r_prev_ = 0.0;
   VelocityEstimator vel_;
   Attention attention_;
   PreadaptNetwork net_;

@@ -12,6 +12,10 @@ namespace preadaptive_mrac {
 class OraclePreadaptation : public PreadaptationStrategy {
  public:
   explicit OraclePreadaptation(double dt) : dt_(dt) {}
+  std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
+    (void)net;
+    return std::make_unique<OraclePreadaptation>(*this);
+  }
   bool needsTruth() const override { return true; }
   void reset() override {
     have_last_ = false;

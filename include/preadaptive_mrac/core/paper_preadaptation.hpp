@@ -18,6 +18,11 @@ class PaperPreadaptation : public PreadaptationStrategy {
   PaperPreadaptation(Mode mode, const ControllerConfig& cfg, const ControllerDesign& design,
                      const Vec& B, const Vec& PB, int out, PreadaptNetwork* net);
   bool needsTruth() const override { return exact_; }
+  std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
+    auto c = std::make_unique<PaperPreadaptation>(*this);
+    c->net_ = net;
+    return c;
+  }
   void reset() override { phase_cost_ = 0.0; }
   void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;
   void duringPhase(const Sample& s, double u, const Vec& theta_hat) override;

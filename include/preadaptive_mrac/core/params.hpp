@@ -81,6 +81,7 @@ class ConfigError : public std::runtime_error {
 
  private:
   std::vector<std::string> problems_;
+  std::vector<std::string> defaults_;
 };
 
 /// \brief How keys are named in messages: "controller.attention.c_e" for files and the CLI,
@@ -116,6 +117,12 @@ class ParamReader {
   std::int64_t getInt(const std::string& dotted, std::int64_t def);
   bool getBool(const std::string& dotted, bool def);
   std::string getString(const std::string& dotted, const std::string& def);
+
+  /// \brief Record that an optional key (or section) was absent and a default filled in;
+  /// the optional getters do it themselves.
+  void noteDefault(const std::string& dotted, const std::string& value);
+  /// \brief "full name = value" of every default filled in, in reading order.
+  const std::vector<std::string>& defaultsUsed() const { return defaults_; }
 
   /// \brief Size of a required list of maps (segments); -1 with a problem when absent or not a
   /// list.
@@ -153,6 +160,7 @@ class ParamReader {
   std::set<std::string> used_;
   std::set<std::string> failed_;
   std::vector<std::string> problems_;
+  std::vector<std::string> defaults_;
 };
 
 }  // namespace preadaptive_mrac

@@ -51,6 +51,8 @@ enum class Detection {
 class PreadaptationStrategy {
  public:
   virtual ~PreadaptationStrategy() = default;
+  /// \brief A copy with the same state, using `net` as its network (Controller's copy).
+  virtual std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const = 0;
   /// \brief True when the strategy needs Sample::theta_true (a simulation-only mode).
   virtual bool needsTruth() const { return false; }
   /// \brief Back to the start of a run (keeps what was learned: network, memory).

@@ -21,6 +21,11 @@ namespace preadaptive_mrac {
 class RobustPreadaptation : public PreadaptationStrategy {
  public:
   RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant, PreadaptNetwork* net);
+  std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
+    auto c = std::make_unique<RobustPreadaptation>(*this);
+    c->net_ = net;
+    return c;
+  }
   void reset() override;
   Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
   void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;

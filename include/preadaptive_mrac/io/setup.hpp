@@ -3,6 +3,7 @@
 /// \brief What the batch CLI, the sweep tool and the ROS nodes share: locating the package's
 /// config files, reading all sections with every problem at once, and the run's JSON summary.
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct RunConfig {
   PlantConfig plant;
   ControllerConfig controller;
   Scenario scenario;
+  /// "full name = value" of every optional key or section that was absent and defaulted
+  /// (what a node logs at start-up, so no default is silent).
+  std::vector<std::string> defaults_used;
 };
 
 /// \brief Which sections to read (a plant node needs no controller, and so on).
@@ -52,8 +56,11 @@ struct RunInfo {
   double dt = 0.0;
   std::vector<std::string> overrides;
   double wall_time_s = 0.0;
+  std::vector<std::string> defaults_used;  ///< optional keys filled with defaults
 };
 
+/// \brief The JSON summary of a run (keys in a fixed order).
+nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl, const SimResult& res);
 /// \brief One-line JSON summary of a run (the `--json` output and one sweep line).
 std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const SimResult& res);
 /// \brief A scenario as the YAML that Scenario::read reads back (17 significant digits).
