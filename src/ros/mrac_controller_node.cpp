@@ -324,6 +324,9 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   in.x = &x_;
   in.r = msg.r;
   in.theta_true = theta;
+  // The elevator the plant applied over the last step (rate- and magnitude-limited, or the
+  // plant's hold): pa_robust identifies from it, as the batch loop does.
+  if (std::isfinite(msg.elevator)) in.u_applied = &msg.elevator;
   StepOutput out;
   try {
     out = ctl_.step(in);
