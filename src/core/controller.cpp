@@ -77,23 +77,25 @@ RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
     r.noteDefault(p, "absent (pa_robust's documented defaults)");
     return c;
   }
-  c.detect_window = r.getDouble(p + ".detect_window");
-  c.chunk = r.getDouble(p + ".chunk");
-  c.threshold = r.getDouble(p + ".threshold");
-  c.noise_factor = r.getDouble(p + ".noise_factor");
-  c.noise_time = r.getDouble(p + ".noise_time");
-  c.verify_time = r.getDouble(p + ".verify_time");
-  c.margin = r.getDouble(p + ".margin");
-  c.significance = r.getDouble(p + ".significance");
-  c.prior_std = r.getDouble(p + ".prior_std");
-  c.ridge = r.getDouble(p + ".ridge");
-  c.cl_gain = r.getDouble(p + ".cl_gain");
-  c.memory_size = static_cast<int>(r.getInt(p + ".memory_size"));
-  c.merge_tolerance = r.getDouble(p + ".merge_tolerance");
-  c.settle_time = r.getDouble(p + ".settle_time");
-  c.quiet_time = r.getDouble(p + ".quiet_time");
-  c.use_network = r.getBool(p + ".use_network");
-  c.network_rate = r.getDouble(p + ".network_rate");
+  // Each key is optional: an absent one keeps its documented default (noted, so the tools
+  // and nodes print it), so `--set controller.robust.margin=0.3` works on any file.
+  c.detect_window = r.getDouble(p + ".detect_window", c.detect_window);
+  c.chunk = r.getDouble(p + ".chunk", c.chunk);
+  c.threshold = r.getDouble(p + ".threshold", c.threshold);
+  c.noise_factor = r.getDouble(p + ".noise_factor", c.noise_factor);
+  c.noise_time = r.getDouble(p + ".noise_time", c.noise_time);
+  c.verify_time = r.getDouble(p + ".verify_time", c.verify_time);
+  c.margin = r.getDouble(p + ".margin", c.margin);
+  c.significance = r.getDouble(p + ".significance", c.significance);
+  c.prior_std = r.getDouble(p + ".prior_std", c.prior_std);
+  c.ridge = r.getDouble(p + ".ridge", c.ridge);
+  c.cl_gain = r.getDouble(p + ".cl_gain", c.cl_gain);
+  c.memory_size = static_cast<int>(r.getInt(p + ".memory_size", c.memory_size));
+  c.merge_tolerance = r.getDouble(p + ".merge_tolerance", c.merge_tolerance);
+  c.settle_time = r.getDouble(p + ".settle_time", c.settle_time);
+  c.quiet_time = r.getDouble(p + ".quiet_time", c.quiet_time);
+  c.use_network = r.getBool(p + ".use_network", c.use_network);
+  c.network_rate = r.getDouble(p + ".network_rate", c.network_rate);
   return c;
 }
 
@@ -122,10 +124,14 @@ void RobustConfig::validate(ParamReader& r, const std::string& p) const {
   range("settle_time", settle_time, 0.0, 1e6, false);
   range("quiet_time", quiet_time, 0.0, 1e6, true);
   range("network_rate", network_rate, 0.0, 1e3, false);
-  if (r.usable(p + ".verify_time") && r.usable(p + ".detect_window") && verify_time < detect_window)
+  // The pairs are checked when either key is given (the other may be its default).
+  auto pair = [&](const std::string& a, const std::string& b) {
+    return (r.has(p + a) || r.has(p + b)) && !r.failed(p + a) && !r.failed(p + b);
+  };
+  if (pair(".verify_time", ".detect_window") && verify_time < detect_window)
     r.fail(p + ".verify_time", "must be >= detect_window (" + formatNumber(detect_window) +
                                    "), got " + formatNumber(verify_time));
-  if (r.usable(p + ".chunk") && r.usable(p + ".verify_time") && chunk > verify_time)
+  if (pair(".chunk", ".verify_time") && chunk > verify_time)
     r.fail(p + ".chunk", "must be <= verify_time (" + formatNumber(verify_time) + "), got " +
                              formatNumber(chunk));
 }
@@ -433,6 +439,9 @@ void Controller::setNetwork(const NetworkState& s) {
                                 std::to_string(cfg_.hidden) + " x " + std::to_string(n_));
   net_ = PreadaptNetwork(s);
   RegimeMemory(&net_.state().regimes, cfg_.robust.memory_size).trim();
+  // The assignment gave the memory the loaded file's capacity: reserve the bound again, so
+  // remembering a regime during the run never allocates.
+  net_.state().regimes.reserve(static_cast<size_t>(std::max(cfg_.robust.memory_size, 0)) + 1);
 }
 
 double Controller::safeCommand(const Vec& x_last, StalePolicy policy) {
@@ -501,6 +510,10 @@ StepOutput Controller::step(const StepInput& in) {
       case Detection::kNone:
         break;
     }
+    // A reset by pa_robust or the oracle stays in Omega when projection is on (the paper's
+    // modes reset as the paper does, unprojected: they are the reproduction).
+    if (cfg_.projection && (cfg_.mode == Mode::kPaRobust || cfg_.mode == Mode::kOracle))
+      clampToBall(&theta_hat_, cfg_.theta_max);
     ev.theta_hat_after = theta_hat_;
     ev.episodes = net_.state().episodes;
     out.event = ev;

@@ -55,6 +55,17 @@ std::string weightsToYaml(const NetworkState& s) {
     for (int i = 0; i < s.W.cols(); ++i) os << (i ? ", " : "") << num(s.W(j, i));
     os << "]\n";
   }
+  // Version 2: the regimes pa_robust remembers (theta, how often used, last-use stamp).
+  if (s.regimes.empty()) {
+    os << "regimes: []  # remembered by pa_robust: theta, uses, last_used\n";
+  } else {
+    os << "regimes:  # remembered by pa_robust: theta, uses, last_used\n";
+    for (const RegimeEntry& e : s.regimes) {
+      os << "  - theta: [";
+      for (Eigen::Index i = 0; i < e.theta.size(); ++i) os << (i ? ", " : "") << num(e.theta[i]);
+      os << "]\n    uses: " << e.uses << "\n    last_used: " << e.last_used << "\n";
+    }
+  }
   return os.str();
 }
 
@@ -116,8 +127,8 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
   if (r.has("format") && format != kFormatTag)
     r.fail("format", "expected '" + std::string(kFormatTag) + "', got '" + format + "'");
   const std::int64_t version = r.getInt("version");
-  if (r.has("version") && version != kWeightsFormatVersion)
-    r.fail("version", "unsupported version " + std::to_string(version) + " (this build reads " +
+  if (r.has("version") && (version < 1 || version > kWeightsFormatVersion))
+    r.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1 to " +
                           std::to_string(kWeightsFormatVersion) + ")");
   const std::int64_t inputs = r.getInt("inputs");
   if (r.has("inputs") && inputs != kNetInputs)
@@ -140,6 +151,34 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
     throw WeightsError(std::string("corrupt weights file: ") + ConfigError(r.problems()).what());
   const Eigen::MatrixXd V = r.getMatrix("V", kNetInputs, static_cast<int>(hidden));
   const Eigen::MatrixXd W = r.getMatrix("W", static_cast<int>(hidden), static_cast<int>(outputs));
+  // Regimes (version 2; version 1 files have none). Each theta has the network's output size.
+  if (version >= 2 && r.has("regimes")) {
+    const ParamValue* list = tree.findPath("regimes");
+    if (list->type() != ParamValue::Type::kList) {
+      r.fail("regimes", "expected a list, got " + list->describe());
+    } else {
+      r.markUsed("regimes");
+      for (size_t k = 0; k < list->list().size(); ++k) {
+        const std::string key = "regimes." + std::to_string(k);
+        const ParamValue& item = list->list()[k];
+        if (item.type() != ParamValue::Type::kMap) {
+          r.fail(key, "expected a map {theta, uses, last_used}, got " + item.describe());
+          continue;
+        }
+        for (const auto& kv : item.map())
+          if (kv.first != "theta" && kv.first != "uses" && kv.first != "last_used")
+            r.fail(key + "." + kv.first, "unknown key");
+        RegimeEntry e;
+        e.theta = r.getVector(key + ".theta", static_cast<int>(outputs));
+        e.uses = r.getInt(key + ".uses");
+        e.last_used = r.getInt(key + ".last_used");
+        if (r.has(key + ".uses") && e.uses < 0) r.fail(key + ".uses", "must be >= 0");
+        s.regimes.push_back(e);
+      }
+    }
+  } else if (version >= 2) {
+    r.fail("regimes", "missing (version 2 files list the remembered regimes, [] when none)");
+  }
   r.rejectUnusedUnder("");
   if (!r.ok())
     throw WeightsError(std::string("corrupt weights file: ") + ConfigError(r.problems()).what());

@@ -397,6 +397,9 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
 
   if (out.event && out.event->learned && params_.save_every_episode)
     saveWeights("after a learning episode");
+  else if (out.event && out.event->type == Event::Type::kRecovered &&
+           ctl_.mode() == Mode::kPaRobust && params_.save_every_episode)
+    saveWeights("after a recovery (the regimes pa_robust remembers)");
 }
 
 void MracControllerNode::answerRejected(const PlantState& msg, const std::string& why) {

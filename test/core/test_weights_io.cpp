@@ -68,9 +68,9 @@ TEST(WeightsIo, CorruptFilesAreClearErrors) {
   std::string other = good;
   other.replace(other.find("preadaptive_mrac/weights"), 24, "something/else");
   EXPECT_NE(errorOf(other).find("format"), std::string::npos);
-  std::string v2 = good;
-  v2.replace(v2.find("version: 1"), 10, "version: 2");
-  EXPECT_NE(errorOf(v2).find("unsupported version 2"), std::string::npos);
+  std::string v3 = good;
+  v3.replace(v3.find("version: 2"), 10, "version: 3");
+  EXPECT_NE(errorOf(v3).find("unsupported version 3"), std::string::npos);
   // A NaN weight.
   std::string nan = good;
   nan.replace(nan.find("W:") + good.substr(good.find("W:")).find("[") + 1, 0, ".nan, ");
@@ -82,6 +82,52 @@ TEST(WeightsIo, CorruptFilesAreClearErrors) {
   EXPECT_NE(errorOf(noseed).find("seed: missing"), std::string::npos) << errorOf(noseed);
   // An unknown field is a typo, not silently ignored.
   EXPECT_NE(errorOf(good + "extra: 1\n").find("extra: unknown key"), std::string::npos);
+}
+
+TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
+  NetworkState s = PreadaptNetwork(3, 3, 5, 1.0).state();
+  for (int k = 0; k < 3; ++k) {
+    RegimeEntry e;
+    e.theta = Vec::Constant(3, 0.1 + 1.0 / 3.0 * k);
+    e.theta[1] = -2.5 * k;
+    e.uses = k + 1;
+    e.last_used = 10 * k;
+    s.regimes.push_back(e);
+  }
+  const std::string dir = tmpDir();
+  saveWeights(dir + "/w.yaml", s);
+  const NetworkState back = loadWeights(dir + "/w.yaml", 3, 3);
+  ASSERT_EQ(back.regimes.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ((back.regimes[k].theta - s.regimes[k].theta).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ(back.regimes[k].uses, s.regimes[k].uses);
+    EXPECT_EQ(back.regimes[k].last_used, s.regimes[k].last_used);
+  }
+  // A version 1 file (no regimes) loads with an empty memory.
+  std::string v1 = weightsToYaml(PreadaptNetwork(3, 3, 5, 1.0).state());
+  v1.replace(v1.find("version: 2"), 10, "version: 1");
+  v1.erase(v1.find("regimes:"));
+  EXPECT_EQ(errorOf(v1), "no error");
+  EXPECT_TRUE(parseWeights(v1, "w1.yaml", 3, 3).regimes.empty());
+  // Version 2 without regimes, a regime of the wrong size, NaN, a typo: each named.
+  std::string noreg = v1;
+  noreg.replace(noreg.find("version: 1"), 10, "version: 2");
+  EXPECT_NE(errorOf(noreg).find("regimes: missing"), std::string::npos) << errorOf(noreg);
+  const std::string good = weightsToYaml(s);
+  std::string small = good;
+  small.replace(small.find("theta: [") + 8, 0, "7, ");
+  EXPECT_NE(errorOf(small).find("regimes.0.theta"), std::string::npos) << errorOf(small);
+  std::string nan = good;
+  const size_t first = nan.find("theta: [") + 8;
+  nan.replace(first, nan.find(',', first) - first, ".nan");
+  EXPECT_NE(errorOf(nan).find("regimes.0.theta"), std::string::npos) << errorOf(nan);
+  std::string typo = good;
+  typo.replace(typo.find("    uses:"), 9, "    usez:");
+  EXPECT_NE(errorOf(typo).find("regimes.0.usez: unknown key"), std::string::npos)
+      << errorOf(typo);
+  std::string neg = good;
+  neg.replace(neg.find("uses: 1"), 7, "uses: -1");
+  EXPECT_NE(errorOf(neg).find("regimes.0.uses"), std::string::npos) << errorOf(neg);
 }
 
 TEST(WeightsIo, MismatchedSizesAreClearErrors) {

@@ -1,7 +1,7 @@
 #pragma once
 /// \file weights_io.hpp
 /// \brief The preadaptation network's weights file (YAML): format, version, sizes, seed,
-/// episodes, V and W at full precision. Saved atomically; loads refuse anything suspicious.
+/// episodes, V and W at full precision, and the regimes pa_robust remembers. Saved atomically; loads refuse anything suspicious.
 
 #include <stdexcept>
 #include <string>
@@ -16,8 +16,9 @@ class WeightsError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// \brief Current format version written by saveWeights.
-constexpr int kWeightsFormatVersion = 1;
+/// \brief Current format version written by saveWeights. Version 2 adds `regimes:` (the
+/// memory of pa_robust); version 1 files (no regimes) still load, with an empty memory.
+constexpr int kWeightsFormatVersion = 2;
 
 /// \brief Text of a weights file (17 significant digits, so a load gives identical weights).
 std::string weightsToYaml(const NetworkState& s);

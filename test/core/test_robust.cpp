@@ -1,0 +1,249 @@
+// pa_robust (docs/robust.md): verification rejects bad candidates, noise-only triggers move
+// nothing, the memory stays bounded, remembered regimes survive a save and load, projection
+// holds, and the controller.robust keys are optional one by one.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "preadaptive_mrac/core/closed_loop.hpp"
+#include "preadaptive_mrac/core/regime_memory.hpp"
+#include "preadaptive_mrac/core/scenario_family.hpp"
+#include "preadaptive_mrac/io/weights_io.hpp"
+#include "test_helpers.hpp"
+
+using namespace preadaptive_mrac;
+
+namespace {
+
+RunConfig robustConfig() {
+  RunConfig cfg = test::packageConfig("1");
+  cfg.controller.mode = Mode::kPaRobust;
+  return cfg;
+}
+
+Scenario constantScenario(const Vec& theta, double t_end) {
+  Scenario s = test::packageConfig("1").scenario;
+  s.theta.clear();
+  s.theta.push_back({t_end, theta});
+  s.reference = {{t_end, 0.1}};
+  return s;
+}
+
+// Two regimes, A B A B: the second visits are repeated switches.
+Scenario abab(const Vec& a, const Vec& b) {
+  Scenario s = test::packageConfig("1").scenario;
+  s.theta.clear();
+  s.theta.push_back({5.0, Vec::Constant(3, 0.1)});
+  s.theta.push_back({20.0, a});
+  s.theta.push_back({35.0, b});
+  s.theta.push_back({50.0, a});
+  s.theta.push_back({65.0, b});
+  s.reference = {{65.0, 0.1}};
+  return s;
+}
+
+SimResult run(const RunConfig& cfg, Controller* ctl, bool series = false) {
+  ClosedLoop loop(cfg.plant, cfg.scenario, ctl);
+  SimOptions opt;
+  opt.dt = cfg.controller.sample_time;
+  opt.record_series = series;
+  return loop.run(opt);
+}
+
+Vec vec3(double a, double b, double c) {
+  Vec v(3);
+  v << a, b, c;
+  return v;
+}
+
+}  // namespace
+
+TEST(RegimeMemory, StaysBoundedAndDropsTheLeastUsedOldestFirst) {
+  std::vector<RegimeEntry> entries;
+  RegimeMemory mem(&entries, 3);
+  const Vec d = vec3(0.0, 1.0, 0.0);  // disturbance theta^T d = theta[1]
+  EXPECT_EQ(mem.remember(vec3(0, 1, 0), d, 0.05), 0);
+  EXPECT_EQ(mem.remember(vec3(0, 2, 0), d, 0.05), 1);
+  EXPECT_EQ(mem.remember(vec3(0, 3, 0), d, 0.05), 2);
+  // Close to entry 1 on the direction: merged (replaced by the newer estimate), not added.
+  EXPECT_EQ(mem.remember(vec3(5, 2.01, 0), d, 0.05), 1);
+  EXPECT_EQ(mem.size(), 3);
+  EXPECT_EQ(mem.at(1).theta[0], 5.0);
+  mem.markUsed(2);
+  // Full: a new regime evicts the least used; entry 0 (used once, oldest) goes.
+  const int slot = mem.remember(vec3(0, 7, 0), d, 0.05);
+  EXPECT_EQ(mem.size(), 3);
+  ASSERT_GE(slot, 0);
+  bool has1 = false, has7 = false;
+  for (int i = 0; i < mem.size(); ++i) {
+    has1 |= mem.at(i).theta[1] == 1.0;
+    has7 |= mem.at(i).theta[1] == 7.0;
+  }
+  EXPECT_FALSE(has1) << "the least used, oldest regime should have been dropped";
+  EXPECT_TRUE(has7);
+  // Many more: never above the capacity.
+  for (int k = 0; k < 50; ++k) mem.remember(vec3(0, 10.0 + k, 0), d, 0.05);
+  EXPECT_EQ(mem.size(), 3);
+  // A loaded list longer than the capacity is trimmed to it.
+  std::vector<RegimeEntry> many(10, RegimeEntry{vec3(1, 1, 1), 1, 1});
+  RegimeMemory(&many, 4).trim();
+  EXPECT_EQ(many.size(), 4u);
+  // Capacity 0 remembers nothing.
+  std::vector<RegimeEntry> none;
+  EXPECT_EQ(RegimeMemory(&none, 0).remember(vec3(1, 2, 3), d, 0.05), -1);
+  EXPECT_TRUE(none.empty());
+}
+
+TEST(Robust, MemoryStaysBoundedOverALongRun) {
+  RunConfig cfg = robustConfig();
+  cfg.controller.robust.memory_size = 2;
+  FamilySpec spec;
+  spec.regimes = 5;
+  spec.segments = 12;
+  cfg.scenario = recurringScenario(spec, 7, 0);
+  Controller ctl(cfg.plant, cfg.controller);
+  run(cfg, &ctl);
+  EXPECT_LE(ctl.network().state().regimes.size(), 2u);
+  EXPECT_GE(ctl.network().state().regimes.size(), 1u);
+}
+
+TEST(Robust, NoiseOnlyTriggersMoveNothing) {
+  // The plant is what theta_hat0 says (theta = 0, never switching), measured with 0.1 mrad
+  // noise: every trigger is noise-only, no event may move theta_hat, and the run must stay as
+  // good as rac.
+  RunConfig cfg = robustConfig();
+  cfg.scenario = constantScenario(vec3(0.0, 0.0, 0.0), 40.0);
+  cfg.plant.noise.std = vec3(0.0, 1e-4, 1e-4);
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    cfg.plant.noise.seed = seed;
+    Controller ctl(cfg.plant, cfg.controller);
+    const SimResult res = run(cfg, &ctl);
+    for (const Event& ev : res.events) {
+      EXPECT_EQ((ev.theta_hat_after - ev.theta_hat_before).cwiseAbs().maxCoeff(), 0.0)
+          << "seed " << seed << ": event at t = " << ev.t << " moved theta_hat ("
+          << decisionName(ev.decision) << ")";
+    }
+    RunConfig rac = cfg;
+    rac.controller.mode = Mode::kRac;
+    Controller rc(rac.plant, rac.controller);
+    const SimResult rr = run(rac, &rc);
+    EXPECT_LE(res.metrics.iae, 1.05 * rr.metrics.iae) << "seed " << seed;
+  }
+}
+
+TEST(Robust, VerificationRejectsABadRememberedRegime) {
+  // The memory holds a regime far from anything the plant does; after a switch it must never
+  // be chosen, while the right regime (also remembered) is.
+  RunConfig cfg = robustConfig();
+  const Vec a = vec3(4.0, 6.0, 2.0), b = vec3(0.8, 1.2, 0.5), bad = vec3(-8.0, 9.0, -6.0);
+  cfg.scenario = abab(a, b);
+  Controller ctl(cfg.plant, cfg.controller);
+  NetworkState s = ctl.network().state();
+  s.regimes.push_back(RegimeEntry{bad, 5, 1});
+  s.regimes.push_back(RegimeEntry{a, 1, 2});
+  ctl.setNetwork(s);
+  const SimResult res = run(cfg, &ctl);
+  int memory_choices = 0;
+  for (const Event& ev : res.events) {
+    if (ev.decision != Event::Decision::kMemory) continue;
+    ++memory_choices;
+    EXPECT_GT((ev.theta_hat_after - bad).norm(), 3.0)
+        << "the bad regime was chosen at t = " << ev.t;
+  }
+  EXPECT_GE(memory_choices, 1) << "the right remembered regime was never recalled";
+  // The bad entry is still there (never used), the right ones were.
+  bool bad_kept = false;
+  for (const auto& e : ctl.network().state().regimes) bad_kept |= (e.theta - bad).norm() == 0.0;
+  EXPECT_TRUE(bad_kept);
+}
+
+TEST(Robust, RememberedRegimesCarryOverThroughTheWeightsFile) {
+  RunConfig cfg = robustConfig();
+  const Vec a = vec3(4.0, 6.0, 2.0), b = vec3(0.8, 1.2, 0.5);
+  cfg.scenario = abab(a, b);
+  Controller first(cfg.plant, cfg.controller);
+  run(cfg, &first);
+  ASSERT_GE(first.network().state().regimes.size(), 2u);
+  char tmpl[] = "/tmp/pmrac_robust_XXXXXX";
+  const std::string path = std::string(mkdtemp(tmpl)) + "/w.yaml";
+  saveWeights(path, first.network().state());
+  const NetworkState loaded = loadWeights(path, cfg.controller.hidden, 3);
+  ASSERT_EQ(loaded.regimes.size(), first.network().state().regimes.size());
+
+  // A second run of the same plant: at its FIRST switch into a (to this run new) regime the
+  // first decision already recalls it from the loaded memory, and it explains the data far
+  // better than keeping (theta is identifiable only along the states visited, so the regime is
+  // judged by its residual, not by its distance to the true theta); a run that starts with an
+  // empty memory cannot recall.
+  auto firstDecisionAfterSwitch = [&](const SimResult& res) {
+    for (const Event& ev : res.events)
+      if (ev.t >= 5.0 && ev.decision != Event::Decision::kNone) return ev;
+    return Event();
+  };
+  Controller second(cfg.plant, cfg.controller);
+  second.setNetwork(loaded);
+  const Event with = firstDecisionAfterSwitch(run(cfg, &second));
+  EXPECT_EQ(with.decision, Event::Decision::kMemory) << decisionName(with.decision);
+  ASSERT_GE(with.chosen, 0);
+  ASSERT_LT(with.chosen, static_cast<int>(loaded.regimes.size()));
+  // The reset starts from that regime (a fit around it may move it along what the data shows).
+  const Vec& recalled = loaded.regimes[static_cast<size_t>(with.chosen)].theta;
+  EXPECT_LT((with.theta_hat_after - recalled).norm(), (with.theta_hat_before - recalled).norm());
+  EXPECT_LT(with.score, 0.2 * with.score_keep);
+  Controller fresh(cfg.plant, cfg.controller);
+  const Event without = firstDecisionAfterSwitch(run(cfg, &fresh));
+  EXPECT_NE(without.decision, Event::Decision::kMemory);
+}
+
+TEST(Robust, ResetsStayInOmegaWithProjection) {
+  for (Mode m : {Mode::kPaRobust, Mode::kOracle}) {
+    RunConfig cfg = robustConfig();
+    cfg.controller.mode = m;
+    cfg.controller.projection = true;
+    cfg.controller.theta_max = 3.0;
+    cfg.scenario = abab(vec3(4.0, 6.0, 2.0), vec3(0.8, 1.2, 0.5));
+    Controller ctl(cfg.plant, cfg.controller);
+    NetworkState s = ctl.network().state();
+    s.regimes.push_back(RegimeEntry{vec3(4.0, 6.0, 2.0), 1, 1});  // outside Omega
+    ctl.setNetwork(s);
+    const SimResult res = run(cfg, &ctl, true);
+    double worst = 0.0;
+    for (const Vec& th : res.series.theta_hat) worst = std::max(worst, th.norm());
+    EXPECT_LE(worst, 3.0 * (1.0 + 1e-12)) << modeName(m);
+    for (const Event& ev : res.events)
+      EXPECT_LE(ev.theta_hat_after.norm(), 3.0 * (1.0 + 1e-12)) << modeName(m) << " t " << ev.t;
+  }
+}
+
+TEST(Robust, KeysAreOptionalOneByOneAndValidated) {
+  ParamValue tree = test::packageTree("1");
+  ParamValue* robust = &tree.child("controller").child("robust");
+  robust->map().erase("margin");
+  robust->map().erase("memory_size");
+  tree.setPath("controller.robust.verify_time", ParamValue::makeDouble(0.03));
+  const RunConfig cfg = readRunConfig(tree);
+  EXPECT_EQ(cfg.controller.robust.margin, RobustConfig().margin);
+  EXPECT_EQ(cfg.controller.robust.verify_time, 0.03);
+  std::string defaults;
+  for (const auto& d : cfg.defaults_used) defaults += d + "\n";
+  EXPECT_NE(defaults.find("controller.robust.margin"), std::string::npos) << defaults;
+  EXPECT_NE(defaults.find("controller.robust.memory_size"), std::string::npos) << defaults;
+  // A given key against another's default is still checked, and named.
+  tree.setPath("controller.robust.verify_time", ParamValue::makeDouble(0.001));
+  try {
+    readRunConfig(tree);
+    FAIL() << "verify_time below the default detect_window accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("controller.robust.verify_time"), std::string::npos)
+        << e.what();
+  }
+  tree.setPath("controller.robust.verify_time", ParamValue::makeString("soon"));
+  try {
+    readRunConfig(tree);
+    FAIL() << "a string accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("controller.robust.verify_time"), std::string::npos);
+  }
+}
