@@ -128,8 +128,8 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
     r.fail("format", "expected '" + std::string(kFormatTag) + "', got '" + format + "'");
   const std::int64_t version = r.getInt("version");
   if (r.has("version") && (version < 1 || version > kWeightsFormatVersion))
-    r.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1 to " +
-                          std::to_string(kWeightsFormatVersion) + ")");
+    r.fail("version", "unsupported version " + std::to_string(version) +
+                          " (this build reads 1 to " + std::to_string(kWeightsFormatVersion) + ")");
   const std::int64_t inputs = r.getInt("inputs");
   if (r.has("inputs") && inputs != kNetInputs)
     r.fail("inputs", "must be " + std::to_string(kNetInputs) + ", got " + std::to_string(inputs));

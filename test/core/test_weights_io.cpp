@@ -123,8 +123,7 @@ TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
   EXPECT_NE(errorOf(nan).find("regimes.0.theta"), std::string::npos) << errorOf(nan);
   std::string typo = good;
   typo.replace(typo.find("    uses:"), 9, "    usez:");
-  EXPECT_NE(errorOf(typo).find("regimes.0.usez: unknown key"), std::string::npos)
-      << errorOf(typo);
+  EXPECT_NE(errorOf(typo).find("regimes.0.usez: unknown key"), std::string::npos) << errorOf(typo);
   std::string neg = good;
   neg.replace(neg.find("uses: 1"), 7, "uses: -1");
   EXPECT_NE(errorOf(neg).find("regimes.0.uses"), std::string::npos) << errorOf(neg);
