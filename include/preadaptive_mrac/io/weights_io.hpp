@@ -1,7 +1,8 @@
 #pragma once
 /// \file weights_io.hpp
 /// \brief The preadaptation network's weights file (YAML): format, version, sizes, seed,
-/// episodes, V and W at full precision, and the regimes pa_robust remembers. Saved atomically; loads refuse anything suspicious.
+/// episodes, V and W at full precision, and the regimes pa_robust remembers. Saved atomically;
+/// loads refuse anything suspicious.
 
 #include <stdexcept>
 #include <string>
