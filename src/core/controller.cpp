@@ -80,6 +80,7 @@ RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
   // Each key is optional: an absent one keeps its documented default (noted, so the tools
   // and nodes print it), so `--set controller.robust.margin=0.3` works on any file.
   c.detect_window = r.getDouble(p + ".detect_window", c.detect_window);
+  c.long_window = r.getDouble(p + ".long_window", c.long_window);
   c.chunk = r.getDouble(p + ".chunk", c.chunk);
   c.threshold = r.getDouble(p + ".threshold", c.threshold);
   c.noise_factor = r.getDouble(p + ".noise_factor", c.noise_factor);
@@ -109,6 +110,7 @@ void RobustConfig::validate(ParamReader& r, const std::string& p) const {
                     formatNumber(hi) + "], got " + formatNumber(v));
   };
   range("detect_window", detect_window, 0.0, 10.0, true);
+  range("long_window", long_window, 0.0, 10.0, false);
   range("chunk", chunk, 0.0, 10.0, true);
   range("threshold", threshold, 0.0, 100.0, true);
   range("noise_factor", noise_factor, 0.0, 1000.0, false);
@@ -131,6 +133,10 @@ void RobustConfig::validate(ParamReader& r, const std::string& p) const {
   if (pair(".verify_time", ".detect_window") && verify_time < detect_window)
     r.fail(p + ".verify_time", "must be >= detect_window (" + formatNumber(detect_window) +
                                    "), got " + formatNumber(verify_time));
+  if (pair(".long_window", ".detect_window") && long_window > 0.0 && long_window < detect_window)
+    r.fail(p + ".long_window", "must be 0 (off) or >= detect_window (" +
+                                   formatNumber(detect_window) + "), got " +
+                                   formatNumber(long_window));
   if (pair(".chunk", ".verify_time") && chunk > verify_time)
     r.fail(p + ".chunk", "must be <= verify_time (" + formatNumber(verify_time) + "), got " +
                              formatNumber(chunk));

@@ -29,7 +29,8 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
   Lv_ = samplesOf(rc_.verify_time, dt_);
   Lq_ = samplesOf(rc_.quiet_time, dt_);
   Ls_ = samplesOf(rc_.settle_time, dt_);
-  cap_ = std::max(2 * Ld_, Lv_ + 2 * Ld_) + 2;
+  Ll_ = rc_.long_window > 0.0 ? std::max(Ld_, samplesOf(rc_.long_window, dt_)) : 0;
+  cap_ = std::max({2 * Ld_, Lv_ + 2 * Ld_, 2 * Ll_}) + 2;
   const int n = plant.n();
   phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
   th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
@@ -40,6 +41,7 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
   Gr_.setZero(n, n);
   hr_.setZero(n);
   prior_.setZero(n);
+  phi_long_.setZero(n);
   net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
   reset();
 }
@@ -62,6 +64,10 @@ void RobustPreadaptation::reset() {
   regime_fit_ = false;
   cr_ = 0.0;
   next_chunk_k_ = 0;
+  phi_long_.setZero();
+  y_long_ = rho_long_ = 0.0;
+  since_refresh_ = 0;
+  long_trigger_ = false;
 }
 
 RegimeMemory RobustPreadaptation::memory() {
@@ -71,11 +77,24 @@ RegimeMemory RobustPreadaptation::memory() {
 int RobustPreadaptation::at(int j) const { return ((head_ - j) % cap_ + cap_) % cap_; }
 
 void RobustPreadaptation::push(const Vec& phi, double y, const Vec& theta_hat) {
+  if (Ll_ > 0 && count_ >= Ll_) {  // the sample leaving the long window
+    phi_long_ -= phi_[static_cast<size_t>(at(Ll_ - 1))];
+    y_long_ -= y_[static_cast<size_t>(at(Ll_ - 1))];
+  }
   head_ = (head_ + 1) % cap_;
   phi_[static_cast<size_t>(head_)] = phi;
   y_[static_cast<size_t>(head_)] = y;
   th_[static_cast<size_t>(head_)] = theta_hat;
   count_ = std::min(count_ + 1, cap_);
+  if (Ll_ > 0) {
+    phi_long_ += phi;
+    y_long_ += y;
+    // Rounding builds up in running sums: sum the window afresh every so often.
+    if (++since_refresh_ >= 64 * Ll_ && count_ >= Ll_) {
+      windowSums(0, Ll_, &phi_long_, &y_long_);
+      since_refresh_ = 0;
+    }
+  }
 }
 
 void RobustPreadaptation::windowSums(int j0, int len, Vec* phi, double* y) const {
@@ -136,7 +155,22 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   if (verifying_) return k_ >= next_decision_k_ ? Detection::kDecision : Detection::kNone;
   // No trigger before the noise level is known (kMinNoiseBlocks windows of data).
   if (noise_blocks_ < kMinNoiseBlocks) return Detection::kNone;
-  if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= Ld_) return Detection::kOnset;
+  if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= Ld_) {
+    long_trigger_ = false;
+    return Detection::kOnset;
+  }
+  // The long window: a small mismatch that stays under the short window's noise-raised
+  // threshold for long. Its noise is endpoint noise, Ld_ / Ll_ of the short window's; it sees
+  // only data since the last reset (older data is judged against a theta_hat it did not have).
+  if (Ll_ > Ld_ && count_ >= Ll_ && k_ - last_trigger_k_ >= Ll_ && k_ - verify_end_k_ >= Ll_) {
+    rho_long_ = (y_long_ - theta_hat.dot(phi_long_)) / (Ll_ * dt_);
+    const double thr_long =
+        std::max(rc_.threshold, rc_.noise_factor * noiseLevel() * static_cast<double>(Ld_) / Ll_);
+    if (std::abs(rho_long_) > thr_long) {
+      long_trigger_ = true;
+      return Detection::kOnset;
+    }
+  }
   if (attention->phaseActive()) {
     quiet_ = std::abs(rho_) <= thr ? quiet_ + 1 : 0;
     if (quiet_ >= Lq_) return Detection::kRecovered;
@@ -148,8 +182,12 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   // Where did the mismatch begin? The cumulative residual from the newest sample back grows
   // while the data is post-change and stays flat before: take the shortest span holding 90 %
   // of its largest excursion in the direction of the residual.
-  const int span = std::min(count_, std::max(2 * Ld_, 2));
-  const double sgn = rho_ >= 0.0 ? 1.0 : -1.0;
+  const int span = long_trigger_
+                       ? static_cast<int>(std::min<std::int64_t>(
+                             {static_cast<std::int64_t>(count_), 2 * Ll_, k_ - verify_end_k_}))
+                       : std::min(count_, std::max(2 * Ld_, 2));
+  const double rho = long_trigger_ ? rho_long_ : rho_;
+  const double sgn = rho >= 0.0 ? 1.0 : -1.0;
   double S = 0.0, best = 0.0;
   for (int j = 0; j < span; ++j) {
     const int i = at(j);

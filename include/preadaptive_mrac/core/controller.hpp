@@ -36,14 +36,15 @@ std::optional<Mode> parseMode(const std::string& s);
 struct RobustConfig {
   double detect_window = 0.02;    ///< window of the identification residual [s]
   double chunk = 0.005;           ///< data chunk of the verification scores [s]
-  double threshold = 0.02;        ///< smallest mean residual that triggers [rad]
+  double long_window = 0.2;       ///< second, longer residual window (0 = off) [s]
+  double threshold = 0.005;       ///< smallest mean residual that triggers [rad]
   double noise_factor = 5.0;      ///< trigger also needs residual > factor x its noise level
   double noise_time = 2.0;        ///< horizon of the noise-level estimate [s]
   double verify_time = 0.05;      ///< decisions are re-made on growing data for this long [s]
   double margin = 0.2;            ///< a candidate must score this fraction below keeping
   double significance = 9.0;      ///< improvements must exceed this many noise variances
   double prior_std = 1.0;         ///< prior spread of theta around the chosen candidate
-  double ridge = 1e-6;            ///< floor of the fit's ridge, relative to the data's energy
+  double ridge = 1e-2;            ///< floor of the fit's ridge, relative to the data's energy
   double cl_gain = 2.0;           ///< concurrent learning: pull towards the regime's fit [1/s]
   int memory_size = 8;            ///< regimes remembered (least used dropped first)
   double merge_tolerance = 0.02;  ///< regimes closer than this on the visited states merge [rad]

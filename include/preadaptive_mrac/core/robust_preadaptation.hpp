@@ -62,7 +62,12 @@ class RobustPreadaptation : public PreadaptationStrategy {
   Vec B_, B1r_;
   double bb_;
   PreadaptNetwork* net_;
-  int Ld_, Lc_, Lv_, Lq_, Ls_, cap_;
+  int Ld_, Lc_, Lv_, Lq_, Ls_, Ll_, cap_;
+  // Running sums over the long window (the newest Ll_ samples), refreshed now and then.
+  Vec phi_long_;
+  double y_long_ = 0.0, rho_long_ = 0.0;
+  int since_refresh_ = 0;
+  bool long_trigger_ = false;
   // Ring buffer of identification data.
   std::vector<Vec> phi_, th_;
   std::vector<double> y_;
