@@ -71,6 +71,35 @@ const char* decisionName(Event::Decision d) {
   return "?";
 }
 
+namespace {
+// The real-valued keys of controller.robust with their ranges: one table for reading and
+// validating (and in the order a start-up line names the defaults).
+struct RobustKey {
+  const char* key;
+  double RobustConfig::*member;
+  double lo, hi;
+  bool lo_open;
+};
+constexpr RobustKey kRobustKeys[] = {
+    {"detect_window", &RobustConfig::detect_window, 0.0, 10.0, true},
+    {"long_window", &RobustConfig::long_window, 0.0, 10.0, false},
+    {"chunk", &RobustConfig::chunk, 0.0, 10.0, true},
+    {"threshold", &RobustConfig::threshold, 0.0, 100.0, true},
+    {"noise_factor", &RobustConfig::noise_factor, 0.0, 1000.0, false},
+    {"noise_time", &RobustConfig::noise_time, 0.0, 1e6, true},
+    {"verify_time", &RobustConfig::verify_time, 0.0, 10.0, true},
+    {"margin", &RobustConfig::margin, 0.0, 1.0, false},
+    {"significance", &RobustConfig::significance, 0.0, 1e6, false},
+    {"prior_std", &RobustConfig::prior_std, 0.0, 1e6, true},
+    {"ridge", &RobustConfig::ridge, 0.0, 1e6, false},
+    {"cl_gain", &RobustConfig::cl_gain, 0.0, 1e6, false},
+    {"merge_tolerance", &RobustConfig::merge_tolerance, 0.0, 100.0, false},
+    {"settle_time", &RobustConfig::settle_time, 0.0, 1e6, false},
+    {"quiet_time", &RobustConfig::quiet_time, 0.0, 1e6, true},
+    {"network_rate", &RobustConfig::network_rate, 0.0, 1e3, false},
+};
+}  // namespace
+
 RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
   RobustConfig c;
   if (!r.has(p)) {  // optional section: the documented defaults
@@ -79,24 +108,10 @@ RobustConfig RobustConfig::read(ParamReader& r, const std::string& p) {
   }
   // Each key is optional: an absent one keeps its documented default (noted, so the tools
   // and nodes print it), so `--set controller.robust.margin=0.3` works on any file.
-  c.detect_window = r.getDouble(p + ".detect_window", c.detect_window);
-  c.long_window = r.getDouble(p + ".long_window", c.long_window);
-  c.chunk = r.getDouble(p + ".chunk", c.chunk);
-  c.threshold = r.getDouble(p + ".threshold", c.threshold);
-  c.noise_factor = r.getDouble(p + ".noise_factor", c.noise_factor);
-  c.noise_time = r.getDouble(p + ".noise_time", c.noise_time);
-  c.verify_time = r.getDouble(p + ".verify_time", c.verify_time);
-  c.margin = r.getDouble(p + ".margin", c.margin);
-  c.significance = r.getDouble(p + ".significance", c.significance);
-  c.prior_std = r.getDouble(p + ".prior_std", c.prior_std);
-  c.ridge = r.getDouble(p + ".ridge", c.ridge);
-  c.cl_gain = r.getDouble(p + ".cl_gain", c.cl_gain);
+  for (const RobustKey& k : kRobustKeys)
+    c.*(k.member) = r.getDouble(p + "." + k.key, c.*(k.member));
   c.memory_size = static_cast<int>(r.getInt(p + ".memory_size", c.memory_size));
-  c.merge_tolerance = r.getDouble(p + ".merge_tolerance", c.merge_tolerance);
-  c.settle_time = r.getDouble(p + ".settle_time", c.settle_time);
-  c.quiet_time = r.getDouble(p + ".quiet_time", c.quiet_time);
   c.use_network = r.getBool(p + ".use_network", c.use_network);
-  c.network_rate = r.getDouble(p + ".network_rate", c.network_rate);
   return c;
 }
 
@@ -109,23 +124,8 @@ void RobustConfig::validate(ParamReader& r, const std::string& p) const {
       r.fail(k, std::string("must be in ") + (lo_open ? "(" : "[") + formatNumber(lo) + ", " +
                     formatNumber(hi) + "], got " + formatNumber(v));
   };
-  range("detect_window", detect_window, 0.0, 10.0, true);
-  range("long_window", long_window, 0.0, 10.0, false);
-  range("chunk", chunk, 0.0, 10.0, true);
-  range("threshold", threshold, 0.0, 100.0, true);
-  range("noise_factor", noise_factor, 0.0, 1000.0, false);
-  range("noise_time", noise_time, 0.0, 1e6, true);
-  range("verify_time", verify_time, 0.0, 10.0, true);
-  range("margin", margin, 0.0, 1.0, false);
-  range("significance", significance, 0.0, 1e6, false);
-  range("prior_std", prior_std, 0.0, 1e6, true);
-  range("ridge", ridge, 0.0, 1e6, false);
-  range("cl_gain", cl_gain, 0.0, 1e6, false);
+  for (const RobustKey& k : kRobustKeys) range(k.key, this->*(k.member), k.lo, k.hi, k.lo_open);
   range("memory_size", memory_size, 0.0, 1024.0, false);
-  range("merge_tolerance", merge_tolerance, 0.0, 100.0, false);
-  range("settle_time", settle_time, 0.0, 1e6, false);
-  range("quiet_time", quiet_time, 0.0, 1e6, true);
-  range("network_rate", network_rate, 0.0, 1e3, false);
   // The pairs are checked when either key is given (the other may be its default).
   auto pair = [&](const std::string& a, const std::string& b) {
     return (r.has(p + a) || r.has(p + b)) && !r.failed(p + a) && !r.failed(p + b);
