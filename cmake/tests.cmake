@@ -7,9 +7,9 @@ if(CATKIN_ENABLE_TESTING)
     target_include_directories(test_${name} PRIVATE test/core)
   endforeach()
   # The CLI test runs the real executable.
-  add_dependencies(test_config preadapt_sim)
+  add_dependencies(test_config preadapt_sim preadapt_sweep)
   target_compile_definitions(test_config PRIVATE
-    PMRAC_SIM_BIN="$<TARGET_FILE:preadapt_sim>")
+    PMRAC_SIM_BIN="$<TARGET_FILE:preadapt_sim>" PMRAC_SWEEP_BIN="$<TARGET_FILE:preadapt_sweep>")
 endif()
 
 include(cmake/tests_ros.cmake)  # ROS node tests (issue 3)
