@@ -3,10 +3,11 @@ CLI's CSV files -> SPEC.md metrics, a comparison against regular adaptive contro
 figures (the paper's Figs. 2-4 and more), metrics.json and metrics.csv.
 
 Modules: runs (the Run record), bags and csv_runs (readers), loading, metrics, report (text,
-JSON, CSV), figure_style and figures, pipeline (analyze()). Every public name (and the few
-private helpers the tests use) is re-exported here, so `from preadaptive_mrac import analysis`
-gives the whole API. Needs /usr/bin/python3 with Debian's python3-rosbag for bags (not for CSV
-files), numpy and matplotlib. See docs/analysis.md.
+JSON, CSV), figure_style, figures (one run) and figures_compare (several runs), pipeline
+(analyze()). Every public name (and the few private helpers the tests use) is re-exported
+here, so `from preadaptive_mrac import analysis` gives the whole API. Needs
+/usr/bin/python3 with Debian's python3-rosbag for bags (not for CSV files), numpy and
+matplotlib. See docs/analysis.md.
 """
 
 from .runs import (  # noqa: F401
@@ -84,15 +85,17 @@ from .figure_style import (  # noqa: F401
     _ylim_to_xlim,
 )
 from .figures import (  # noqa: F401
-    _run_colors,
     plot_alpha,
-    plot_compare,
-    plot_cost,
     plot_decisions,
     plot_elevator,
-    plot_peaks,
     plot_theta,
     write_figures,
+)
+from .figures_compare import (  # noqa: F401
+    _run_colors,
+    plot_compare,
+    plot_cost,
+    plot_peaks,
 )
 from .pipeline import (  # noqa: F401
     analyze,
