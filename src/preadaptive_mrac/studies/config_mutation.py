@@ -249,6 +249,12 @@ def run_one(args, work, i, file_id, path, kind, s, clock, launch):
         why = (
             [] if ok else ['expected a normal run (%s), wrapper exit %d' % (runs_why, p.returncode)]
         )
+        if kind == 'drop' and runs_why.startswith('optional'):
+            # No silent default: the node's start-up line names the key it filled in.
+            named = defaults_line_names(log, names)
+            if not named:
+                ok = False
+                why.append('key %s not in an "optional keys filled with defaults" line' % want)
     return {
         'i': i,
         'file': file_id,
@@ -266,6 +272,21 @@ def run_one(args, work, i, file_id, path, kind, s, clock, launch):
         'stderr': p.stderr,
         'dir': d,
     }
+
+
+def defaults_line_names(log_path, key_patterns):
+    """Whether a node's "optional keys filled with defaults: ..." start-up line in the launch
+    log names one of the keys (resolved names, as regular expressions)."""
+    try:
+        with open(log_path, errors='replace') as f:
+            lines = [ln for ln in f if 'optional keys filled with defaults: ' in ln]
+    except OSError:
+        return False
+    return any(
+        re.search(rx, ln.split('optional keys filled with defaults: ', 1)[1])
+        for ln in lines
+        for rx in key_patterns
+    )
 
 
 def pick(all_muts, n, seed):
