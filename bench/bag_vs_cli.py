@@ -48,12 +48,15 @@ def main():
     missing_status = sum(v is None for v in th)
     ok = missing_state == 0 and missing_status == 0 and dup == 0
     d_alpha = max((abs(x - y) for x, y in zip(alpha, alpha_cli) if x is not None), default=0.0)
-    d_th = max((abs(p - q) for u, v in zip(th, th_cli) if u is not None for p, q in zip(u, v)),
-               default=0.0)
+    d_th = max(
+        (abs(p - q) for u, v in zip(th, th_cli) if u is not None for p, q in zip(u, v)), default=0.0
+    )
     ok = ok and d_alpha <= a.tol and d_th <= a.tol
-    print('steps %d; missing state %d, status %d; duplicates %d; max |diff| alpha %.3g, '
-          'theta_hat %.3g -> %s' % (n, missing_state, missing_status, dup, d_alpha, d_th,
-                                    'EQUAL' if ok else 'DIFFERENT'))
+    print(
+        'steps %d; missing state %d, status %d; duplicates %d; max |diff| alpha %.3g, '
+        'theta_hat %.3g -> %s'
+        % (n, missing_state, missing_status, dup, d_alpha, d_th, 'EQUAL' if ok else 'DIFFERENT')
+    )
     return 0 if ok else 1
 
 

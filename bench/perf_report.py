@@ -26,22 +26,27 @@ def median(xs):
 
 
 def last_json(text):
-    lines = [l for l in text.strip().splitlines() if l.startswith("{")]
+    lines = [ln for ln in text.strip().splitlines() if ln.startswith("{")]
     return json.loads(lines[-1]) if lines else {}
 
 
 def run_once(cmd):
     ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    p = subprocess.run(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                       stderr=subprocess.PIPE, text=True)
+    p = subprocess.run(
+        cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
     wall = time.perf_counter() - t0
     ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     if p.returncode != 0:
         sys.exit("command failed (%d): %s\n%s" % (p.returncode, " ".join(cmd), p.stderr))
     cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)
-    return {"wall": wall, "cpu": cpu, "inproc": last_json(p.stdout).get("wall_time_s"),
-            "json": last_json(p.stdout)}
+    return {
+        "wall": wall,
+        "cpu": cpu,
+        "inproc": last_json(p.stdout).get("wall_time_s"),
+        "json": last_json(p.stdout),
+    }
 
 
 def timeloop(argv):
@@ -54,7 +59,7 @@ def timeloop(argv):
             out = argv.pop(0)
     argv.pop(0)
     sep = argv.index(":::")
-    cli, py = argv[:sep], argv[sep + 1:]
+    cli, py = argv[:sep], argv[sep + 1 :]
     res = {"cli_cmd": cli, "py_cmd": py, "reps": reps, "cli": [], "py": []}
     run_once(cli)  # warm-up (page cache, dynamic loader)
     for i in range(reps):
@@ -62,8 +67,11 @@ def timeloop(argv):
             r = run_once(cmd)
             r.pop("json")
             res[key].append(r)
-            print("  %s run %d/%d: wall %.4f s, cpu %.4f s, in-process %.4f s"
-                  % (key, i + 1, reps, r["wall"], r["cpu"], r["inproc"]), flush=True)
+            print(
+                "  %s run %d/%d: wall %.4f s, cpu %.4f s, in-process %.4f s"
+                % (key, i + 1, reps, r["wall"], r["cpu"], r["inproc"]),
+                flush=True,
+            )
     with open(out, "w") as f:
         json.dump(res, f, indent=1)
 
@@ -71,9 +79,13 @@ def timeloop(argv):
 def callgrind(argv):
     args = dict(zip(argv[::2], argv[1::2]))
     text = open(args["--ir-file"]).read()
-    pats = {"total": r"PROGRAM TOTALS", "closed_loop_run": r"ClosedLoop::run\(",
-            "controller_step": r"Controller::step\(", "plant_step": r"Plant::step\(",
-            "sensitivity_accumulate": r"SensitivityTracker::accumulate\("}
+    pats = {
+        "total": r"PROGRAM TOTALS",
+        "closed_loop_run": r"ClosedLoop::run\(",
+        "controller_step": r"Controller::step\(",
+        "plant_step": r"Plant::step\(",
+        "sensitivity_accumulate": r"SensitivityTracker::accumulate\(",
+    }
     found = {}
     for line in text.splitlines():
         m = re.match(r"\s*([\d,]+)\s", line)
@@ -130,32 +142,41 @@ def report(argv):
     L.append("")
     L.append("- date: %s" % meta["date"])
     L.append("- machine: %s, `nproc` = %s, %s" % (meta["cpu"], meta["nproc"], meta["kernel"]))
-    L.append("- load average before / after the run: %s / %s" % (meta["load_before"],
-                                                             meta["load_after"]))
-    L.append("- compiler: %s; build type %s (`%s`)" % (meta["compiler"], meta["build_type"],
-                                                      meta["cxx_flags"]))
+    L.append(
+        "- load average before / after the run: %s / %s" % (meta["load_before"], meta["load_after"])
+    )
+    L.append(
+        "- compiler: %s; build type %s (`%s`)"
+        % (meta["compiler"], meta["build_type"], meta["cxx_flags"])
+    )
     L.append("- source: commit %s%s" % (meta["commit"], meta["dirty"]))
     L.append("")
-    L.append("**The machine is shared and noisy** (2 cores, other builds and test runs going on "
-             "at the same time). Every figure is the median of several repetitions from one run "
-             "of the script; ratios are taken between medians of the same run. Wall time "
-             "includes the time the process waited for a core, CPU time does not; where they "
-             "differ a lot the machine was busy, and CPU time is the better measure of the code. "
-             "The callgrind instruction counts at the end do not depend on load.")
+    L.append(
+        "**The machine is shared and noisy** (2 cores, other builds and test runs going on "
+        "at the same time). Every figure is the median of several repetitions from one run "
+        "of the script; ratios are taken between medians of the same run. Wall time "
+        "includes the time the process waited for a core, CPU time does not; where they "
+        "differ a lot the machine was busy, and CPU time is the better measure of the code. "
+        "The callgrind instruction counts at the end do not depend on load."
+    )
     L.append("")
 
-    L.append("## Controller::step per mode (ns per step, median of %s repetitions)"
-             % meta["reps"])
+    L.append("## Controller::step per mode (ns per step, median of %s repetitions)" % meta["reps"])
     L.append("")
-    L.append("Inputs replayed from a closed-loop run of scenario 3 (140 s, dt = 1 ms) in the "
-             "same mode: `trajectory` = every step of the run, in order, %s whole passes per "
-             "repetition (the onsets, recoveries, network updates and sensitivity-ODE phases of "
-             "the run all happen inside the timed loop; the replay is checked to reproduce the "
-             "closed loop's u bit for bit first); `in_phase` = only the steps of the longest "
-             "adaptation phase (in learning modes each integrates S_dot = Pi S), the worst "
-             "steady cost." % meta["passes"])
+    L.append(
+        "Inputs replayed from a closed-loop run of scenario 3 (140 s, dt = 1 ms) in the "
+        "same mode: `trajectory` = every step of the run, in order, %s whole passes per "
+        "repetition (the onsets, recoveries, network updates and sensitivity-ODE phases of "
+        "the run all happen inside the timed loop; the replay is checked to reproduce the "
+        "closed loop's u bit for bit first); `in_phase` = only the steps of the longest "
+        "adaptation phase (in learning modes each integrates S_dot = Pi S), the worst "
+        "steady cost." % meta["passes"]
+    )
     L.append("")
-    L.append("| mode | region | wall [ns/step] | CPU [ns/step] | aim | verdict | onsets / learned per pass | steps in a phase |")
+    L.append(
+        "| mode | region | wall [ns/step] | CPU [ns/step] | aim | verdict "
+        "| onsets / learned per pass | steps in a phase |"
+    )
     L.append("|---|---|---:|---:|---:|---|---|---:|")
     for region in ("trajectory", "in_phase"):
         for m in MODES:
@@ -171,14 +192,18 @@ def report(argv):
             else:
                 ev = "-"
                 ph = "%d (from t = %.3f s)" % (b.get("phase_steps", 0), b.get("phase_t0_s", 0))
-            L.append("| %s | %s | %.0f | %.0f | < %.0f | %s | %s | %s |"
-                     % (m, region, wall, cpu, aim, verdict(cpu, wall, aim), ev, ph))
+            L.append(
+                "| %s | %s | %.0f | %.0f | < %.0f | %s | %s | %s |"
+                % (m, region, wall, cpu, aim, verdict(cpu, wall, aim), ev, ph)
+            )
     b = med.get("PlantStep/rk4")
     if b:
         L.append("")
-        L.append("For comparison, one RK4 step of the plant (`PlantStep/rk4`, what the closed "
-                 "loop adds per sample): wall %.0f ns, CPU %.0f ns."
-                 % (to_ns(b["real_time"], b["time_unit"]), to_ns(b["cpu_time"], b["time_unit"])))
+        L.append(
+            "For comparison, one RK4 step of the plant (`PlantStep/rk4`, what the closed "
+            "loop adds per sample): wall %.0f ns, CPU %.0f ns."
+            % (to_ns(b["real_time"], b["time_unit"]), to_ns(b["cpu_time"], b["time_unit"]))
+        )
     L.append("")
 
     L.append("## Full scenario 3 per mode (140 s at dt = 1 ms, 140 000 samples, ClosedLoop::run)")
@@ -191,9 +216,10 @@ def report(argv):
             continue
         wall = to_ns(b["real_time"], b["time_unit"]) / 1e6
         cpu = to_ns(b["cpu_time"], b["time_unit"]) / 1e6
-        L.append("| %s | %.1f | %.1f | %.0f | < 100 | %s |"
-                 % (m, wall, cpu, b.get("per_step", float("nan")) * 1e9,
-                    verdict(cpu, wall, 100.0)))
+        L.append(
+            "| %s | %.1f | %.1f | %.0f | < 100 | %s |"
+            % (m, wall, cpu, b.get("per_step", float("nan")) * 1e9, verdict(cpu, wall, 100.0))
+        )
     L.append("")
 
     tl = json.load(open(os.path.join(d, "timeloop.json")))
@@ -201,32 +227,57 @@ def report(argv):
     hf = json.load(open(hf_path)) if os.path.exists(hf_path) else None
     L.append("## C++ CLI against the Python/numpy prototype (scenario 1, rac, same work)")
     L.append("")
-    L.append("`bench/prototype_rac.py` runs the same equations, dt, integrators and per-sample "
-             "order; its per-window peak |e| agrees with the CLI's to %s rad (IAE to %s rad s), "
-             "events %s." % (meta.get("xcheck_peak", "?"), meta.get("xcheck_iae", "?"),
-                             meta.get("xcheck_events", "?")))
+    L.append(
+        "`bench/prototype_rac.py` runs the same equations, dt, integrators and per-sample "
+        "order; its per-window peak |e| agrees with the CLI's to %s rad (IAE to %s rad s), "
+        "events %s."
+        % (
+            meta.get("xcheck_peak", "?"),
+            meta.get("xcheck_iae", "?"),
+            meta.get("xcheck_events", "?"),
+        )
+    )
     L.append("")
-    L.append("| measure | CLI (median) | prototype (median) | ratio prototype / CLI | aim | verdict |")
+    L.append(
+        "| measure | CLI (median) | prototype (median) | ratio prototype / CLI | aim | verdict |"
+    )
     L.append("|---|---:|---:|---:|---:|---|")
     rows = []
     if hf:
         c, p = hf["results"][0], hf["results"][1]
-        rows.append(("process wall time, hyperfine (%d / %d runs)" % (len(c["times"]), len(p["times"])),
-                     c["median"], p["median"], True))
-    for key, label in (("wall", "process wall time, interleaved loop"),
-                       ("cpu", "process CPU time (user + sys), interleaved loop"),
-                       ("inproc", "in-process `wall_time_s` (design + run, no start-up/YAML)")):
-        rows.append(("%s (%d runs each)" % (label, tl["reps"]),
-                     median([r[key] for r in tl["cli"]]), median([r[key] for r in tl["py"]]),
-                     True))
+        rows.append(
+            (
+                "process wall time, hyperfine (%d / %d runs)" % (len(c["times"]), len(p["times"])),
+                c["median"],
+                p["median"],
+                True,
+            )
+        )
+    for key, label in (
+        ("wall", "process wall time, interleaved loop"),
+        ("cpu", "process CPU time (user + sys), interleaved loop"),
+        ("inproc", "in-process `wall_time_s` (design + run, no start-up/YAML)"),
+    ):
+        rows.append(
+            (
+                "%s (%d runs each)" % (label, tl["reps"]),
+                median([r[key] for r in tl["cli"]]),
+                median([r[key] for r in tl["py"]]),
+                True,
+            )
+        )
     for label, c, p, _ in rows:
         ratio = p / c
-        L.append("| %s | %.4f s | %.3f s | %.0fx | >= 100x | %s |"
-                 % (label, c, p, ratio, "met" if ratio >= 100 else "**missed**"))
+        L.append(
+            "| %s | %.4f s | %.3f s | %.0fx | >= 100x | %s |"
+            % (label, c, p, ratio, "met" if ratio >= 100 else "**missed**")
+        )
     L.append("")
-    L.append("The process figures include start-up: for the CLI the dynamic loader, YAML files "
-             "and design (a few ms), for the prototype the interpreter and the numpy/scipy/yaml "
-             "imports (a few hundred ms); the in-process figure is the simulation alone.")
+    L.append(
+        "The process figures include start-up: for the CLI the dynamic loader, YAML files "
+        "and design (a few ms), for the prototype the interpreter and the numpy/scipy/yaml "
+        "imports (a few hundred ms); the in-process figure is the simulation alone."
+    )
     L.append("")
 
     cg_path = os.path.join(d, "callgrind.json")
@@ -237,42 +288,72 @@ def report(argv):
         L.append("")
         L.append("Inclusive instruction counts divided by the %d samples of scenario 3." % steps)
         L.append("")
-        L.append("| mode | Controller::step | of which SensitivityTracker::accumulate | Plant::step | ClosedLoop::run | whole process |")
+        L.append(
+            "| mode | Controller::step | of which SensitivityTracker::accumulate | Plant::step "
+            "| ClosedLoop::run | whole process |"
+        )
         L.append("|---|---:|---:|---:|---:|---:|")
         for m in MODES:
             if m not in cg:
                 continue
             g = cg[m]
-            f = lambda k: ("%.0f" % (g[k] / steps)) if k in g else "-"
-            L.append("| %s | %s | %s | %s | %s | %s |"
-                     % (m, f("controller_step"), f("sensitivity_accumulate"), f("plant_step"),
-                        f("closed_loop_run"), f("total")))
+
+            def f(k, g=g, steps=steps):
+                return ("%.0f" % (g[k] / steps)) if k in g else "-"
+
+            L.append(
+                "| %s | %s | %s | %s | %s | %s |"
+                % (
+                    m,
+                    f("controller_step"),
+                    f("sensitivity_accumulate"),
+                    f("plant_step"),
+                    f("closed_loop_run"),
+                    f("total"),
+                )
+            )
         L.append("")
-        L.append("(The sensitivity ODE runs only during phases, so its per-sample average is "
-                 "diluted by the quiet steps; see the `in_phase` rows above for its cost per "
-                 "in-phase step.)")
+        L.append(
+            "(The sensitivity ODE runs only during phases, so its per-sample average is "
+            "diluted by the quiet steps; see the `in_phase` rows above for its cost per "
+            "in-phase step.)"
+        )
         L.append("")
         g = cg.get("rac", {})
         if "plant_step" in g and "closed_loop_run" in g and "controller_step" in g:
-            share = lambda k: 100.0 * g[k] / g["closed_loop_run"]
-            text = ("Where the time of a batch run goes (rac): the plant's RK4 step is %.0f %% of "
-                    "ClosedLoop::run's instructions, the controller %.0f %%, the rest (metrics, "
-                    "scenario look-up, copies of the step output) %.0f %%."
-                    % (share("plant_step"), share("controller_step"),
-                       100.0 - share("plant_step") - share("controller_step")))
+
+            def share(k, g=g):
+                return 100.0 * g[k] / g["closed_loop_run"]
+
+            text = (
+                "Where the time of a batch run goes (rac): the plant's RK4 step is %.0f %% of "
+                "ClosedLoop::run's instructions, the controller %.0f %%, the rest (metrics, "
+                "scenario look-up, copies of the step output) %.0f %%."
+                % (
+                    share("plant_step"),
+                    share("controller_step"),
+                    100.0 - share("plant_step") - share("controller_step"),
+                )
+            )
             if g.get("eigen_gemv"):
-                text += (" %.0f %% of ClosedLoop::run's instructions are spent inside Eigen's "
-                         "general matrix-vector kernel (`general_matrix_vector_product`), to "
-                         "which the small dynamic-size products (`A * x` in the plant, "
-                         "`Phi_r * x_r` in the reference model) dispatch." % share("eigen_gemv"))
-            text += (" Listings: `%s/callgrind.<mode>.txt` (inclusive), "
-                     "`callgrind_annotate %s/callgrind.rac.out` (exclusive)."
-                     % (meta["res"], meta["res"]))
+                text += (
+                    " %.0f %% of ClosedLoop::run's instructions are spent inside Eigen's "
+                    "general matrix-vector kernel (`general_matrix_vector_product`), to "
+                    "which the small dynamic-size products (`A * x` in the plant, "
+                    "`Phi_r * x_r` in the reference model) dispatch." % share("eigen_gemv")
+                )
+            text += (
+                " Listings: `%s/callgrind.<mode>.txt` (inclusive), "
+                "`callgrind_annotate %s/callgrind.rac.out` (exclusive)."
+                % (meta["res"], meta["res"])
+            )
             L.append(text)
             L.append("")
-    L.append("Note: Debian's libbenchmark prints \"Library was built as DEBUG\"; that concerns "
-             "the harness itself (its timer loop), not the code under test, which is built "
-             "Release (`-O3 -DNDEBUG`).")
+    L.append(
+        "Note: Debian's libbenchmark prints \"Library was built as DEBUG\"; that concerns "
+        "the harness itself (its timer loop), not the code under test, which is built "
+        "Release (`-O3 -DNDEBUG`)."
+    )
     L.append("")
 
     L.append("## Commands")

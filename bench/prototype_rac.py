@@ -68,8 +68,10 @@ def main():
 
     # theta segments hold on (previous until, until]
     seg_until = [float(s["until"]) for s in scen["theta"]]
-    seg_theta = [float(s["scale"]) * np.ones(n) if "scale" in s else np.array(s["theta"], float)
-                 for s in scen["theta"]]
+    seg_theta = [
+        float(s["scale"]) * np.ones(n) if "scale" in s else np.array(s["theta"], float)
+        for s in scen["theta"]
+    ]
     ref = scen.get("reference", [{"until": seg_until[-1], "r": 0.1}])
     ref_until = [float(s["until"]) for s in ref]
     ref_r = [float(s["r"]) for s in ref]
@@ -167,42 +169,69 @@ def main():
 
     wall = time.perf_counter() - t0
 
-    windows = [{"t_start": a, "t_end": b, "peak_abs_e": p, "iae": q}
-               for a, b, p, q in zip(w_start, w_end, peak, iae)]
-    result = {"scenario": "1", "mode": "rac", "dt": dt, "steps": steps, "K": K.tolist(),
-              "windows": windows, "events": [{"type": a, "t": b} for a, b in events],
-              "iae": sum(iae), "peak_abs_e": max(peak), "max_abs_u": max_u,
-              "wall_time_s": wall}
+    windows = [
+        {"t_start": a, "t_end": b, "peak_abs_e": p, "iae": q}
+        for a, b, p, q in zip(w_start, w_end, peak, iae)
+    ]
+    result = {
+        "scenario": "1",
+        "mode": "rac",
+        "dt": dt,
+        "steps": steps,
+        "K": K.tolist(),
+        "windows": windows,
+        "events": [{"type": a, "t": b} for a, b in events],
+        "iae": sum(iae),
+        "peak_abs_e": max(peak),
+        "max_abs_u": max_u,
+        "wall_time_s": wall,
+    }
 
     cli = None
     if args.cli_json:
         cli = sys.stdin.read() if args.cli_json == "-" else open(args.cli_json).read()
     if cli:
-        line = [l for l in cli.strip().splitlines() if l.startswith("{")][-1]
+        line = [ln for ln in cli.strip().splitlines() if ln.startswith("{")][-1]
         c = json.loads(line)
         if len(c["windows"]) != len(windows):
-            sys.exit("the CLI's JSON has %d windows, the prototype %d"
-                     % (len(c["windows"]), len(windows)))
+            sys.exit(
+                "the CLI's JSON has %d windows, the prototype %d"
+                % (len(c["windows"]), len(windows))
+            )
         dpeak = max(abs(a["peak_abs_e"] - b["peak_abs_e"]) for a, b in zip(windows, c["windows"]))
         diae = max(abs(a["iae"] - b["iae"]) for a, b in zip(windows, c["windows"]))
         cev = [(e["type"], round(e["t"], 6)) for e in c["events"]]
         same_events = cev == [(a, round(b, 6)) for a, b in events]
-        result["vs_cli"] = {"max_abs_diff_peak_abs_e": dpeak, "max_abs_diff_iae": diae,
-                            "same_events": same_events, "cli_wall_time_s": c.get("wall_time_s")}
+        result["vs_cli"] = {
+            "max_abs_diff_peak_abs_e": dpeak,
+            "max_abs_diff_iae": diae,
+            "same_events": same_events,
+            "cli_wall_time_s": c.get("wall_time_s"),
+        }
 
     if not args.quiet:
-        print("prototype rac, scenario 1: %d steps, wall time %.3f s (%.1f us/step)"
-              % (steps, wall, 1e6 * wall / steps))
+        print(
+            "prototype rac, scenario 1: %d steps, wall time %.3f s (%.1f us/step)"
+            % (steps, wall, 1e6 * wall / steps)
+        )
         print("%-8s %-8s %-14s %-14s" % ("t_start", "t_end", "peak|e|", "IAE"))
         for w in windows:
-            print("%-8.2f %-8.2f %-14.8g %-14.8g" % (w["t_start"], w["t_end"], w["peak_abs_e"],
-                                                     w["iae"]))
+            print(
+                "%-8.2f %-8.2f %-14.8g %-14.8g"
+                % (w["t_start"], w["t_end"], w["peak_abs_e"], w["iae"])
+            )
         print("events: %s" % ", ".join("%s@%.3f" % e for e in events))
         if "vs_cli" in result:
             v = result["vs_cli"]
-            print("vs CLI: max |diff| of per-window peak |e| = %.3g rad, of IAE = %.3g rad s, "
-                  "events %s" % (v["max_abs_diff_peak_abs_e"], v["max_abs_diff_iae"],
-                                 "identical" if v["same_events"] else "DIFFER"))
+            print(
+                "vs CLI: max |diff| of per-window peak |e| = %.3g rad, of IAE = %.3g rad s, "
+                "events %s"
+                % (
+                    v["max_abs_diff_peak_abs_e"],
+                    v["max_abs_diff_iae"],
+                    "identical" if v["same_events"] else "DIFFER",
+                )
+            )
     print(json.dumps(result))
 
 

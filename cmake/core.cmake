@@ -49,7 +49,7 @@ install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 install(DIRECTORY config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
   OPTIONAL)
 
-# Python tools (run with the system python3 that has the ROS modules).
+# Python tools (run with the system python3 that has the ROS modules): thin entry points; the
+# code is the Python package src/preadaptive_mrac (catkin_python_setup() in CMakeLists.txt).
 catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-install(FILES scripts/pmrac_analysis.py DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -7,13 +7,23 @@ if(CATKIN_ENABLE_TESTING)
     target_include_directories(test_${name} PRIVATE test/core)
   endforeach()
   # The CLI test runs the real executable.
-  add_dependencies(test_config preadapt_sim)
+  add_dependencies(test_config preadapt_sim preadapt_sweep)
   target_compile_definitions(test_config PRIVATE
-    PMRAC_SIM_BIN="$<TARGET_FILE:preadapt_sim>")
+    PMRAC_SIM_BIN="$<TARGET_FILE:preadapt_sim>" PMRAC_SWEEP_BIN="$<TARGET_FILE:preadapt_sweep>")
 endif()
 
 include(cmake/tests_ros.cmake)  # ROS node tests (issue 3)
 if(CATKIN_ENABLE_TESTING)
   add_dependencies(test_family preadapt_family)
   target_compile_definitions(test_family PRIVATE PMRAC_FAMILY_BIN="$<TARGET_FILE:preadapt_family>")
+endif()
+
+# Python unit tests of the package under src/preadaptive_mrac (test/python/test_<module>.py, no
+# master, no build products): unittest, one JUnit file through scripts/junit_wrap, so both
+# `make run_tests` and scripts/test count them.
+if(CATKIN_ENABLE_TESTING)
+  set(_pmrac_py_xml ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/python-unittest.xml)
+  # One string: run_tests.py runs each COMMAND word as a command of its own.
+  catkin_run_tests_target("python" "unittest" "python-unittest.xml"
+    COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/scripts/junit_wrap python_unittest ${_pmrac_py_xml} -- ${PYTHON_EXECUTABLE} -m unittest discover -s ${PROJECT_SOURCE_DIR}/test/python -t ${PROJECT_SOURCE_DIR}/test/python -p 'test_*.py' -v")
 endif()

@@ -32,8 +32,9 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/broken_config.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
 
-  # Realtime: the command topic at 1 kHz (hztest on wall clock).
-  add_rostest(test/ros/realtime_hz.test
+  # Realtime (wall clock, 1 kHz): no state lost, every state answered once and in order
+  # (behaviour, not speed: rates and latencies are the benchmarks' business).
+  add_rostest(test/ros/realtime_answers.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
 
   # Issue 5, reliability (wall clock). The controller alone, fed by the test: NaN states are

@@ -515,6 +515,7 @@ int runMracControllerNode() {
     logConfigProblems(e.problems());
     return kExitConfigError;
   }
+  ROS_INFO("%s", defaultsLine(params.defaults_used).c_str());
   ros::NodeHandle nh;
   std::unique_ptr<MracControllerNode> node;
   try {

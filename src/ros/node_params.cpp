@@ -54,6 +54,13 @@ void appendProblems(std::vector<std::string>* out, const std::vector<std::string
 
 }  // namespace
 
+std::string defaultsLine(const std::vector<std::string>& defaults_used) {
+  std::string line = "optional keys filled with defaults: ";
+  if (defaults_used.empty()) return line + "none";
+  for (size_t i = 0; i < defaults_used.size(); ++i) line += (i ? ", " : "") + defaults_used[i];
+  return line;
+}
+
 const char* clockModeName(ClockMode m) {
   return m == ClockMode::kLockstep ? "lockstep" : "realtime";
 }
@@ -148,6 +155,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
     appendProblems(&problems, e.problems());
   }
   if (!problems.empty()) throw ConfigError(problems);
+  p.defaults_used = r.defaultsUsed();
+  appendProblems(&p.defaults_used, p.run.defaults_used);
   return p;
 }
 
@@ -207,6 +216,8 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
     }
   }
   if (!problems.empty()) throw ConfigError(problems);
+  p.defaults_used = r.defaultsUsed();
+  appendProblems(&p.defaults_used, p.run.defaults_used);
   return p;
 }
 

@@ -523,6 +523,7 @@ int runPlantSimNode() {
     logConfigProblems(e.problems());
     return kExitConfigError;
   }
+  ROS_INFO("%s", defaultsLine(params.defaults_used).c_str());
   ros::NodeHandle nh;
   PlantSimNode node(nh, params);
   return node.run();

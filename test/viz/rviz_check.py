@@ -25,7 +25,7 @@ import subprocess
 import sys
 import time
 
-BG = (48, 48, 48)                # Background Color of rviz/preadaptive_mrac.rviz
+BG = (48, 48, 48)  # Background Color of rviz/preadaptive_mrac.rviz
 # rviz's StatusProperty colours for the Displays tree (text and icons):
 # Error = QColor(178, 23, 46), Warn = QColor(192, 128, 0).
 ERROR_RGB = (178, 23, 46)
@@ -47,10 +47,12 @@ def done():
 
 # ----------------------------------------------------------------------------- graph
 
+
 def cmd_graph(args):
     import rosgraph
     import rospy
     from visualization_msgs.msg import MarkerArray
+
     master = rosgraph.Master('/rviz_check')
     deadline = time.time() + args.timeout
     pubs = subs = {}
@@ -58,6 +60,7 @@ def cmd_graph(args):
 
     def rviz_in(names):
         return any('rviz' in n for n in names)
+
     while time.time() < deadline:
         try:
             p, s, _ = master.getSystemState()
@@ -68,15 +71,26 @@ def cmd_graph(args):
             time.sleep(0.5)
             continue
         pubs, subs = dict(p), dict(s)
-        if rviz_in(subs.get('/tf', [])) and rviz_in(subs.get(args.markers_topic, [])) and \
-                pubs.get(args.markers_topic) and pubs.get('/tf'):
+        if (
+            rviz_in(subs.get('/tf', []))
+            and rviz_in(subs.get(args.markers_topic, []))
+            and pubs.get(args.markers_topic)
+            and pubs.get('/tf')
+        ):
             break
         time.sleep(0.5)
-    check(rviz_in(subs.get('/tf', [])), 'rviz subscribes to /tf (subscribers: %s)' % subs.get('/tf'))
-    check(rviz_in(subs.get(args.markers_topic, [])), 'rviz subscribes to %s (subscribers: %s)' % (
-        args.markers_topic, subs.get(args.markers_topic)))
-    check(bool(pubs.get(args.markers_topic)), '%s has a publisher (%s)' % (
-        args.markers_topic, pubs.get(args.markers_topic)))
+    check(
+        rviz_in(subs.get('/tf', [])), 'rviz subscribes to /tf (subscribers: %s)' % subs.get('/tf')
+    )
+    check(
+        rviz_in(subs.get(args.markers_topic, [])),
+        'rviz subscribes to %s (subscribers: %s)'
+        % (args.markers_topic, subs.get(args.markers_topic)),
+    )
+    check(
+        bool(pubs.get(args.markers_topic)),
+        '%s has a publisher (%s)' % (args.markers_topic, pubs.get(args.markers_topic)),
+    )
     check(bool(pubs.get('/tf')), '/tf has publisher(s) (%s)' % pubs.get('/tf'))
     # Marker arrays with live data: text with the sample time, a history with points.
     if not rosgraph.is_master_online():
@@ -86,8 +100,9 @@ def cmd_graph(args):
     msg, live = None, False
     while time.time() < deadline and not live:
         try:
-            msg = rospy.wait_for_message(args.markers_topic, MarkerArray,
-                                         timeout=max(1.0, deadline - time.time()))
+            msg = rospy.wait_for_message(
+                args.markers_topic, MarkerArray, timeout=max(1.0, deadline - time.time())
+            )
         except rospy.ROSException:
             break
         texts = [m.text for m in msg.markers if m.ns == 'text']
@@ -99,20 +114,27 @@ def cmd_graph(args):
         check(False, 'no MarkerArray on %s within %g s' % (args.markers_topic, args.timeout))
         return done()
     ns = sorted({m.ns for m in msg.markers})
-    check({'aircraft', 'velocity', 'text', 'alpha_history'} <= set(ns),
-          'a MarkerArray arrived with namespaces %s' % ', '.join(ns))
+    check(
+        {'aircraft', 'velocity', 'text', 'alpha_history'} <= set(ns),
+        'a MarkerArray arrived with namespaces %s' % ', '.join(ns),
+    )
     texts = [m.text for m in msg.markers if m.ns == 'text']
-    check(any(t.startswith('t = ') for t in texts) and any('alpha_ref' in t for t in texts),
-          'the text overlays show live data: %s' % ' | '.join(texts[:3]))
+    check(
+        any(t.startswith('t = ') for t in texts) and any('alpha_ref' in t for t in texts),
+        'the text overlays show live data: %s' % ' | '.join(texts[:3]),
+    )
     hist = [m for m in msg.markers if m.ns == 'alpha_history' and m.type == m.LINE_STRIP]
-    check(any(len(m.points) >= 2 for m in hist),
-          'the alpha history line strips have points (%s)' %
-          ', '.join(str(len(m.points)) for m in hist))
+    check(
+        any(len(m.points) >= 2 for m in hist),
+        'the alpha history line strips have points (%s)'
+        % ', '.join(str(len(m.points)) for m in hist),
+    )
     rospy.signal_shutdown('checks done')
     return done()
 
 
 # ----------------------------------------------------------------------------- shot
+
 
 def cmd_shot(args):
     disp = os.environ.get('DISPLAY')
@@ -122,6 +144,7 @@ def cmd_shot(args):
     err = None
     try:
         from PIL import ImageGrab
+
         img = ImageGrab.grab(xdisplay=disp)
         img.save(args.out)
     except Exception as ex:  # PIL without xcb
@@ -131,12 +154,15 @@ def cmd_shot(args):
             err = None
         except Exception as ex2:
             err = '%s; import: %s' % (err, ex2)
-    check(err is None and os.path.exists(args.out), 'screenshot %s%s' % (
-        args.out, '' if err is None else ' failed: %s' % err))
+    check(
+        err is None and os.path.exists(args.out),
+        'screenshot %s%s' % (args.out, '' if err is None else ' failed: %s' % err),
+    )
     return done()
 
 
 # ----------------------------------------------------------------------------- image
+
 
 def _runs(mask):
     """Longest run of True in a 1-D boolean array: (start, end) end exclusive."""
@@ -153,6 +179,7 @@ def _runs(mask):
 
 def _near(img, rgb, tol):
     import numpy as np
+
     d = np.abs(img.astype(int) - np.array(rgb)[None, None, :]).max(axis=2)
     return d <= tol
 
@@ -160,13 +187,16 @@ def _near(img, rgb, tol):
 def analyse_image(path, expect_error=False):
     import numpy as np
     from PIL import Image
+
     img = np.asarray(Image.open(path).convert('RGB'))
     h, w, _ = img.shape
     gray = img.mean(axis=2)
     std = float(gray.std())
     ncol = len(np.unique(img.reshape(-1, 3)[::7], axis=0))
-    check(std > 8.0 and ncol > 50, 'screenshot is not blank: %dx%d, grey std %.1f, %d colours'
-          % (w, h, std, ncol))
+    check(
+        std > 8.0 and ncol > 50,
+        'screenshot is not blank: %dx%d, grey std %.1f, %d colours' % (w, h, std, ncol),
+    )
     bg = _near(img, BG, 3)
     cols = bg.mean(axis=0) > 0.25
     x0, x1 = _runs(cols)
@@ -186,9 +216,9 @@ def _check_view(view_img):
     view = view_img.astype(int)
     r, g, b = view[..., 0], view[..., 1], view[..., 2]
     not_bg = float((~_near(view, BG, 6)).mean())
-    yellow = int(((r > 170) & (g > 150) & (b < 110)).sum())    # alpha history, elevator, alpha text
-    cyan = int(((g > 150) & (b > 150) & (r < 110)).sum())      # velocity arrow
-    body = int(((r > 120) & (b > 150) & (b > r + 20)).sum())   # wings and tail (lit blue)
+    yellow = int(((r > 170) & (g > 150) & (b < 110)).sum())  # alpha history, elevator, alpha text
+    cyan = int(((g > 150) & (b > 150) & (r < 110)).sum())  # velocity arrow
+    body = int(((r > 120) & (b > 150) & (b > r + 20)).sum())  # wings and tail (lit blue)
     whiteish = int(((r > 180) & (g > 180) & (b > 180)).sum())  # text, fuselage
     check(not_bg > 0.01, 'the 3D view is not empty: %.1f%% non-background pixels' % (100 * not_bg))
     check(yellow > 150, 'alpha history / alpha text drawn (%d yellow pixels)' % yellow)
@@ -199,20 +229,27 @@ def _check_view(view_img):
 
 def _check_panel(img, x0, y0, y1, expect_error):
     import numpy as np
+
     # Displays panel: left of the 3D view, same rows, right of the display-type icons (the
     # MarkerArray icon has red in it): 42 px from the window's left edge (the X root
     # around the window is black).
     win_left = int(np.argmax(img[y0:y1].max(axis=2).max(axis=0) > 0))
-    panel = img[y0:y1, win_left + 42:max(win_left + 42, x0 - 4)]
+    panel = img[y0:y1, win_left + 42 : max(win_left + 42, x0 - 4)]
     n_err = int(_near(panel, ERROR_RGB, 40).sum())
     n_warn = int(_near(panel, WARN_RGB, 40).sum())
     bad = n_err + n_warn
     if expect_error:
-        check(bad > 20, 'expected a display error: Displays panel shows %d error-red and %d '
-              'warning-orange pixels' % (n_err, n_warn))
+        check(
+            bad > 20,
+            'expected a display error: Displays panel shows %d error-red and %d '
+            'warning-orange pixels' % (n_err, n_warn),
+        )
     else:
-        check(bad <= 20, 'Displays panel shows no error or warning status: %d error-red and %d '
-              'warning-orange pixels (limit 20)' % (n_err, n_warn))
+        check(
+            bad <= 20,
+            'Displays panel shows no error or warning status: %d error-red and %d '
+            'warning-orange pixels (limit 20)' % (n_err, n_warn),
+        )
 
 
 def cmd_image(args):
@@ -225,8 +262,10 @@ def cmd_image(args):
 BAD_LINE = re.compile(r'\[ *(ERROR|FATAL)\]|Status: Error|Segmentation fault|core dumped')
 # Printed by every Debian rviz at start-up: it asks rospack for the media_export package,
 # which Debian does not ship; harmless (no display depends on it).
-BENIGN = (re.compile(r'^\[rospack\] Error: no such package media_export'),
-          re.compile(r'^\[librospack\]: error while executing command'))
+BENIGN = (
+    re.compile(r'^\[rospack\] Error: no such package media_export'),
+    re.compile(r'^\[librospack\]: error while executing command'),
+)
 
 
 def cmd_log(args):
@@ -249,8 +288,11 @@ def cmd_log(args):
         return 0
     for line in bad[:20]:
         print('  ' + line)
-    check(not bad, 'rviz output has no [ERROR]/[FATAL] lines (%d found in %s)' % (
-        len(bad), ', '.join(os.path.basename(p) for p in args.files)))
+    check(
+        not bad,
+        'rviz output has no [ERROR]/[FATAL] lines (%d found in %s)'
+        % (len(bad), ', '.join(os.path.basename(p) for p in args.files)),
+    )
     return done()
 
 
@@ -269,7 +311,9 @@ def main():
     lg.add_argument('files', nargs='+')
     lg.add_argument('--expect-error', action='store_true')
     args = ap.parse_args()
-    return {'graph': cmd_graph, 'shot': cmd_shot, 'image': cmd_image, 'log': cmd_log}[args.cmd](args)
+    return {'graph': cmd_graph, 'shot': cmd_shot, 'image': cmd_image, 'log': cmd_log}[args.cmd](
+        args
+    )
 
 
 if __name__ == '__main__':

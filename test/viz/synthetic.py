@@ -30,14 +30,26 @@ A = np.array([[0.0, 1.0, 0.0], [0.0, -0.32, 0.86], [0.0, -0.93, -0.43]])
 B = np.array([0.0, -0.02, -1.16])
 B1R = np.array([-1.0, 0.0, 0.0])
 
-EVENT_NAMES = {0: 'onset', 1: 'recovered', 2: 'ignored_onset', 3: 'ignored_recovery',
-               4: 'decision'}
+EVENT_NAMES = {0: 'onset', 1: 'recovered', 2: 'ignored_onset', 3: 'ignored_recovery', 4: 'decision'}
 DECISION_KINDS = ('keep', 'fit', 'memory', 'network')  # AttentionEvent.decision_code 1..4
-NO_DECISION = {'decision': '', 'decision_code': 0, 'chosen': -1, 'candidates': 0,
-               'score': 0.0, 'score_keep': 0.0}
+NO_DECISION = {
+    'decision': '',
+    'decision_code': 0,
+    'chosen': -1,
+    'candidates': 0,
+    'score': 0.0,
+    'score_keep': 0.0,
+}
 # The AttentionEvent fields added with pa_robust: a bag recorded before has none of them.
-DECISION_MSG_LINES = ('DECISION', 'decision', 'decision_code', 'chosen', 'candidates',
-                      'score', 'score_keep')
+DECISION_MSG_LINES = (
+    'DECISION',
+    'decision',
+    'decision_code',
+    'chosen',
+    'candidates',
+    'score',
+    'score_keep',
+)
 
 
 def legacy_attention_text(text):
@@ -46,8 +58,7 @@ def legacy_attention_text(text):
     keep = []
     for line in text.splitlines():
         words = line.split('#')[0].replace('=', ' ').split()
-        if len(words) >= 2 and (words[1] in DECISION_MSG_LINES or
-                                words[1].startswith('DECISION_')):
+        if len(words) >= 2 and (words[1] in DECISION_MSG_LINES or words[1].startswith('DECISION_')):
             continue
         keep.append(line)
     return '\n'.join(keep) + '\n'
@@ -58,10 +69,16 @@ def load_msg_classes(msg_dir=MSG_DIR, legacy_attention=False):
     legacy_attention, AttentionEvent without the pa_robust fields (an old bag's)."""
     import genpy.dynamic
     import std_msgs.msg
+
     classes = {}
     sep = '\n' + '=' * 80 + '\n'
-    for name in ('PlantState', 'PlantTruth', 'ElevatorCommand', 'AttentionEvent',
-                 'AdaptationStatus'):
+    for name in (
+        'PlantState',
+        'PlantTruth',
+        'ElevatorCommand',
+        'AttentionEvent',
+        'AdaptationStatus',
+    ):
         with open(os.path.join(msg_dir, name + '.msg')) as f:
             text = f.read()
         if legacy_attention and name == 'AttentionEvent':
@@ -76,8 +93,13 @@ def tf_message_class():
     """tf2_msgs/TFMessage from geometry_msgs' definition (no python3-tf2-ros needed)."""
     import genpy.dynamic
     from geometry_msgs.msg import TransformStamped
-    full = ('geometry_msgs/TransformStamped[] transforms\n' + '=' * 80 +
-            '\nMSG: geometry_msgs/TransformStamped\n' + TransformStamped._full_text)
+
+    full = (
+        'geometry_msgs/TransformStamped[] transforms\n'
+        + '=' * 80
+        + '\nMSG: geometry_msgs/TransformStamped\n'
+        + TransformStamped._full_text
+    )
     return genpy.dynamic.generate_dynamic('tf2_msgs/TFMessage', full)['tf2_msgs/TFMessage']
 
 
@@ -90,12 +112,27 @@ def theta_schedule(switches, scales):
             if t < s - 1e-12:
                 return c
         return scales[-1]
+
     return theta
 
 
-def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0), t_end=24.0,
-             dt=0.002, r=0.1, gamma=10.0, c_e=0.005, c_ed=0.02, tau=0.01, seed=1,
-             init_scale=1.0, decimate=5, decision_every=5, decision_count=3):
+def simulate(
+    mode='rac',
+    switches=(3.0, 10.0, 17.0),
+    scales=(0.1, 4.0, 10.0, 1.0),
+    t_end=24.0,
+    dt=0.002,
+    r=0.1,
+    gamma=10.0,
+    c_e=0.005,
+    c_ed=0.02,
+    tau=0.01,
+    seed=1,
+    init_scale=1.0,
+    decimate=5,
+    decision_every=5,
+    decision_count=3,
+):
     """Run the fixture closed loop. Returns a dict of arrays sampled every `decimate`
     steps (t, x, xr, e, e_dot, u, u_bl, u_ad, theta_hat, theta, phase, theta_pitch) and
     the list of attention events (every step is evaluated, so no event is lost by the
@@ -107,7 +144,7 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
     and memory, each but keep moving theta_hat half way to the true theta; score_keep is
     |e| + 0.01 and score a fraction of it (equal for keep)."""
     K = scipy.linalg.solve_continuous_are(A, B.reshape(3, 1), np.eye(3), np.eye(1))
-    K = (B.reshape(1, 3) @ K).ravel()           # R = 1: K = B^T P_care
+    K = (B.reshape(1, 3) @ K).ravel()  # R = 1: K = B^T P_care
     Ar = A - np.outer(B, K)
     P = scipy.linalg.solve_continuous_lyapunov(Ar.T, -np.eye(3))
     PB = P @ B
@@ -129,8 +166,24 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
     decisions_made = 0  # DECISION events so far
     decisions_due = []  # steps of the pending DECISION events
     n = int(round(t_end / dt))
-    out = {k: [] for k in ('t', 'x', 'xr', 'e', 'e_dot', 'u', 'u_bl', 'u_ad',
-                           'theta_hat', 'theta', 'phase', 'theta_pitch', 'step')}
+    out = {
+        k: []
+        for k in (
+            't',
+            'x',
+            'xr',
+            'e',
+            'e_dot',
+            'u',
+            'u_bl',
+            'u_ad',
+            'theta_hat',
+            'theta',
+            'phase',
+            'theta_pitch',
+            'step',
+        )
+    }
     events = []
     for k in range(n + 1):
         t = k * dt
@@ -177,27 +230,50 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
                         th_hat = 0.5 * (th_hat + theta)
                         reset = True
                 score_keep = abs(e) + 0.01
-                dec = {'decision': kind, 'decision_code': DECISION_KINDS.index(kind) + 1,
-                       'chosen': decisions_made % 2 if kind == 'memory' else -1,
-                       'candidates': 2 + decisions_made % 4,
-                       'score': score_keep if kind == 'keep' else
-                       score_keep / (2.0 + decisions_made),
-                       'score_keep': score_keep}
-            d = {'type': ev, 'type_name': EVENT_NAMES[ev], 't': t, 'step': k,
-                 'e': e, 'e_dot_est': e_dot, 'theta_hat_before': before,
-                 'theta_hat_after': th_hat.copy(), 'reset': reset, 'cost': cost,
-                 'grad': [], 'learned': False, 'episodes': episodes}
+                dec = {
+                    'decision': kind,
+                    'decision_code': DECISION_KINDS.index(kind) + 1,
+                    'chosen': decisions_made % 2 if kind == 'memory' else -1,
+                    'candidates': 2 + decisions_made % 4,
+                    'score': score_keep if kind == 'keep' else score_keep / (2.0 + decisions_made),
+                    'score_keep': score_keep,
+                }
+            d = {
+                'type': ev,
+                'type_name': EVENT_NAMES[ev],
+                't': t,
+                'step': k,
+                'e': e,
+                'e_dot_est': e_dot,
+                'theta_hat_before': before,
+                'theta_hat_after': th_hat.copy(),
+                'reset': reset,
+                'cost': cost,
+                'grad': [],
+                'learned': False,
+                'episodes': episodes,
+            }
             d.update(dec)
             events.append(d)
         u_bl = -K @ x
         u_ad = -th_hat @ x
         u = u_bl + u_ad
         if k % decimate == 0:
-            for key, val in (('t', t), ('x', x.copy()), ('xr', xr.copy()), ('e', e),
-                             ('e_dot', e_dot), ('u', u), ('u_bl', u_bl), ('u_ad', u_ad),
-                             ('theta_hat', th_hat.copy()), ('theta', theta),
-                             ('phase', int(phase)), ('theta_pitch', theta_pitch),
-                             ('step', k)):
+            for key, val in (
+                ('t', t),
+                ('x', x.copy()),
+                ('xr', xr.copy()),
+                ('e', e),
+                ('e_dot', e_dot),
+                ('u', u),
+                ('u_bl', u_bl),
+                ('u_ad', u_ad),
+                ('theta_hat', th_hat.copy()),
+                ('theta', theta),
+                ('phase', int(phase)),
+                ('theta_pitch', theta_pitch),
+                ('step', k),
+            ):
                 out[key].append(val)
         if k == n:
             break
@@ -209,6 +285,7 @@ def simulate(mode='rac', switches=(3.0, 10.0, 17.0), scales=(0.1, 4.0, 10.0, 1.0
             dxr = Ar @ xxr + B1R * r
             dth = gamma * xx * ((xx - xxr) @ PB)
             return dx, dxr, dth
+
         k1 = f(x, xr, th_hat)
         k2 = f(x + 0.5 * dt * k1[0], xr + 0.5 * dt * k1[1], th_hat + 0.5 * dt * k1[2])
         k3 = f(x + 0.5 * dt * k2[0], xr + 0.5 * dt * k2[1], th_hat + 0.5 * dt * k2[2])
@@ -239,6 +316,7 @@ def _set_opt(msg, **fields):
 def make_messages(sim, classes):
     """Yield (relative topic, message, t) in time order for a simulation result."""
     import rospy
+
     PlantState = classes['PlantState']
     PlantTruth = classes['PlantTruth']
     Elevator = classes['ElevatorCommand']
@@ -319,6 +397,7 @@ def write_bag(path, runs, classes=None, skip_topics=(), t0_wall=1000.0):
     Messages are written in time order, with bag time = t0_wall + sim time."""
     import rosbag
     import rospy
+
     classes = classes or load_msg_classes()
     streams = []
     for ns, sim in runs.items():
@@ -339,6 +418,7 @@ def write_unindexed_bag(path, sim, classes=None):
     = 0). Written by copying the file while the writer is still open."""
     import rosbag
     import rospy
+
     classes = classes or load_msg_classes()
     tmp = path + '.writing'
     bag = rosbag.Bag(tmp, 'w', chunk_threshold=4096)
@@ -351,9 +431,25 @@ def write_unindexed_bag(path, sim, classes=None):
     return path
 
 
-CSV_HEADER = ['t', 'x0', 'x1', 'x2', 'xr0', 'xr1', 'xr2', 'e', 'e_dot_est', 'u',
-              'theta_hat0', 'theta_hat1', 'theta_hat2', 'theta_true0', 'theta_true1',
-              'theta_true2', 'phase']
+CSV_HEADER = [
+    't',
+    'x0',
+    'x1',
+    'x2',
+    'xr0',
+    'xr1',
+    'xr2',
+    'e',
+    'e_dot_est',
+    'u',
+    'theta_hat0',
+    'theta_hat1',
+    'theta_hat2',
+    'theta_true0',
+    'theta_true1',
+    'theta_true2',
+    'phase',
+]
 
 
 def write_csv(path, sim, json_path=None, windows=True):
@@ -362,8 +458,17 @@ def write_csv(path, sim, json_path=None, windows=True):
         w = csv.writer(f)
         w.writerow(CSV_HEADER)
         for i, t in enumerate(sim['t']):
-            row = [t, *sim['x'][i], *sim['xr'][i], sim['e'][i], sim['e_dot'][i], sim['u'][i],
-                   *sim['theta_hat'][i], *sim['theta'][i], sim['phase'][i]]
+            row = [
+                t,
+                *sim['x'][i],
+                *sim['xr'][i],
+                sim['e'][i],
+                sim['e_dot'][i],
+                sim['u'][i],
+                *sim['theta_hat'][i],
+                *sim['theta'][i],
+                sim['phase'][i],
+            ]
             w.writerow(['%.9g' % v for v in row])
     if json_path:
         evs = []
@@ -398,23 +503,35 @@ def reference_metrics(sim):
         lo, hi = bounds[i], bounds[i + 1]
         last = i == len(bounds) - 2
         m = (t >= lo - 1e-9) & ((t <= hi + 1e-9) if last else (t < hi - 1e-9))
-        ev_in = [ev for ev in sim['events']
-                 if ev['t'] >= lo - 1e-9 and (ev['t'] <= hi + 1e-9 if last else ev['t'] < hi - 1e-9)]
+        ev_in = [
+            ev
+            for ev in sim['events']
+            if ev['t'] >= lo - 1e-9 and (ev['t'] <= hi + 1e-9 if last else ev['t'] < hi - 1e-9)
+        ]
         rec = [ev['t'] for ev in ev_in if ev['type'] == 1]
-        wins.append({'t_start': lo, 't_end': hi, 'peak': float(e[m].max()),
-                     'onsets': sum(1 for ev in ev_in if ev['type'] == 0),
-                     'recoveries': len(rec),
-                     'decisions': sum(1 for ev in ev_in if ev.get('decision')),
-                     'recovery_time': (rec[0] - lo) if rec else None})
+        wins.append(
+            {
+                't_start': lo,
+                't_end': hi,
+                'peak': float(e[m].max()),
+                'onsets': sum(1 for ev in ev_in if ev['type'] == 0),
+                'recoveries': len(rec),
+                'decisions': sum(1 for ev in ev_in if ev.get('decision')),
+                'recovery_time': (rec[0] - lo) if rec else None,
+            }
+        )
     return wins
 
 
 if __name__ == '__main__':
     import sys
+
     s = simulate(sys.argv[1] if len(sys.argv) > 1 else 'rac')
     for ev in s['events']:
-        print('%-17s t=%.3f e=%+.4f e_dot=%+.4f' % (ev['type_name'], ev['t'], ev['e'],
-                                                    ev['e_dot_est']))
+        print(
+            '%-17s t=%.3f e=%+.4f e_dot=%+.4f'
+            % (ev['type_name'], ev['t'], ev['e'], ev['e_dot_est'])
+        )
     for w in reference_metrics(s):
         print(w)
     print('max |u|', np.abs(s['u']).max(), 'max|e|', np.abs(s['e']).max())

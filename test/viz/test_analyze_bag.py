@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Tests of scripts/analyze_bag and scripts/pmrac_analysis.py on synthetic bags and CSVs.
+"""Tests of scripts/analyze_bag and the preadaptive_mrac.analysis package on synthetic bags and
+CSVs.
 
 Run:  /usr/bin/python3 -m unittest discover -s test/viz -p 'test_*.py' -v
 
@@ -10,7 +11,6 @@ stderr) and its metrics.json/.csv and figures are read back.
 """
 
 import csv
-import importlib.machinery
 import io
 import json
 import os
@@ -28,17 +28,24 @@ PKG = os.path.abspath(os.path.join(HERE, '..', '..'))
 SCRIPTS = os.path.join(PKG, 'scripts')
 CLI = os.path.join(SCRIPTS, 'analyze_bag')
 sys.path.insert(0, HERE)
-sys.path.insert(0, SCRIPTS)
+sys.path.insert(
+    0, os.path.join(PKG, 'src')
+)  # the package of this source tree, not an installed one
 
 import synthetic  # noqa: E402
-import pmrac_analysis as pa  # noqa: E402
+from preadaptive_mrac import analysis as pa  # noqa: E402
 
 PY = '/usr/bin/python3' if os.path.exists('/usr/bin/python3') else sys.executable
 
 
 def run_cli(*args):
-    p = subprocess.run([PY, CLI] + [str(a) for a in args], stdout=subprocess.PIPE,
-                       stderr=subprocess.PIPE, universal_newlines=True, timeout=300)
+    p = subprocess.run(
+        [PY, CLI] + [str(a) for a in args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        universal_newlines=True,
+        timeout=300,
+    )
     return p.returncode, p.stdout, p.stderr
 
 
@@ -49,6 +56,7 @@ def is_png(path):
 
 class Fixtures:
     """Simulations and files shared by the tests (made once)."""
+
     dir = None
 
     @classmethod
@@ -60,23 +68,30 @@ class Fixtures:
         cls.rac = synthetic.simulate('rac')
         cls.pa = synthetic.simulate('pa', seed=1)
         d = cls.dir
-        cls.compare_bag = synthetic.write_bag(os.path.join(d, 'compare.bag'),
-                                              {'rac': cls.rac, 'pa': cls.pa}, cls.classes)
-        cls.rac_bag = synthetic.write_bag(os.path.join(d, 'rac_run.bag'), {'': cls.rac}, cls.classes)
+        cls.compare_bag = synthetic.write_bag(
+            os.path.join(d, 'compare.bag'), {'rac': cls.rac, 'pa': cls.pa}, cls.classes
+        )
+        cls.rac_bag = synthetic.write_bag(
+            os.path.join(d, 'rac_run.bag'), {'': cls.rac}, cls.classes
+        )
         cls.pa_bag = synthetic.write_bag(os.path.join(d, 'pa_run.bag'), {'': cls.pa}, cls.classes)
-        cls.rac_csv = synthetic.write_csv(os.path.join(d, 'out_rac.csv'), cls.rac,
-                                          os.path.join(d, 'out_rac.json'))
+        cls.rac_csv = synthetic.write_csv(
+            os.path.join(d, 'out_rac.csv'), cls.rac, os.path.join(d, 'out_rac.json')
+        )
         cls.pa_csv = synthetic.write_csv(os.path.join(d, 'scenario_pa.csv'), cls.pa)
         # pa_robust: decisions on onsets and as DECISION events
         cls.robust = synthetic.simulate('pa_robust', seed=1)
-        cls.robust_bag = synthetic.write_bag(os.path.join(d, 'compare_robust.bag'),
-                                             {'rac': cls.rac, 'pa': cls.robust}, cls.classes)
-        cls.robust_csv = synthetic.write_csv(os.path.join(d, 's1_pa_robust.csv'), cls.robust,
-                                             os.path.join(d, 's1_pa_robust.json'))
+        cls.robust_bag = synthetic.write_bag(
+            os.path.join(d, 'compare_robust.bag'), {'rac': cls.rac, 'pa': cls.robust}, cls.classes
+        )
+        cls.robust_csv = synthetic.write_csv(
+            os.path.join(d, 's1_pa_robust.csv'), cls.robust, os.path.join(d, 's1_pa_robust.json')
+        )
         # a bag recorded before AttentionEvent had the decision fields
         cls.legacy_classes = synthetic.load_msg_classes(legacy_attention=True)
-        cls.legacy_bag = synthetic.write_bag(os.path.join(d, 'legacy_pa.bag'), {'': cls.pa},
-                                             cls.legacy_classes)
+        cls.legacy_bag = synthetic.write_bag(
+            os.path.join(d, 'legacy_pa.bag'), {'': cls.pa}, cls.legacy_classes
+        )
         return cls
 
 
@@ -133,8 +148,7 @@ class TestCompareBag(unittest.TestCase):
             self.assertAlmostEqual(sum(w['iae'] for w in wins), iae, places=10)
             self.assertAlmostEqual(whole['max_abs_u'], float(np.max(np.abs(sim['u']))), places=12)
             self.assertAlmostEqual(whole['peak_abs_e'], float(ae.max()), places=12)
-            n = {k: sum(1 for ev in sim['events'] if ev['type_name'] == k)
-                 for k in pa.EVENT_TYPES}
+            n = {k: sum(1 for ev in sim['events'] if ev['type_name'] == k) for k in pa.EVENT_TYPES}
             self.assertEqual(whole['onsets'], n['onset'])
             self.assertEqual(whole['recoveries'], n['recovered'])
             self.assertEqual(whole['ignored_recoveries'], n['ignored_recovery'])
@@ -160,10 +174,19 @@ class TestCompareBag(unittest.TestCase):
         names = set(os.listdir(self.out))
         # no pa_robust run, no decisions figure
         self.assertFalse([n for n in names if n.startswith('decisions_')])
-        for n in ('metrics.json', 'metrics.csv', 'alpha_rac.png', 'alpha_pa.png',
-                  'theta_hat_rac.png', 'theta_hat_pa.png', 'elevator_rac.png',
-                  'elevator_pa.png', 'alpha_compare.png', 'peak_per_window.png',
-                  'cost_per_episode.png'):
+        for n in (
+            'metrics.json',
+            'metrics.csv',
+            'alpha_rac.png',
+            'alpha_pa.png',
+            'theta_hat_rac.png',
+            'theta_hat_pa.png',
+            'elevator_rac.png',
+            'elevator_pa.png',
+            'alpha_compare.png',
+            'peak_per_window.png',
+            'cost_per_episode.png',
+        ):
             self.assertIn(n, names)
             if n.endswith('.png'):
                 p = os.path.join(self.out, n)
@@ -174,13 +197,16 @@ class TestCompareBag(unittest.TestCase):
         self.assertEqual(len(rows), 2 * (4 + 1))
         pa_w3 = [r for r in rows if r['label'] == 'pa' and r['window'] == '3'][0]
         self.assertEqual(pa_w3['baseline'], 'rac')
-        self.assertAlmostEqual(float(pa_w3['peak_reduction_pct']),
-                               self.doc['comparison']['runs'][0]['windows'][3]['peak_reduction_pct'],
-                               places=5)
+        self.assertAlmostEqual(
+            float(pa_w3['peak_reduction_pct']),
+            self.doc['comparison']['runs'][0]['windows'][3]['peak_reduction_pct'],
+            places=5,
+        )
 
     def test_alpha_figure_has_event_lines(self):
         """The alpha figure draws one green line per onset and one black per recovery."""
         import matplotlib
+
         matplotlib.use('Agg')
         runs = pa.load_runs(self.f.compare_bag)
         run = [r for r in runs if r.label == 'pa'][0]
@@ -193,6 +219,7 @@ class TestCompareBag(unittest.TestCase):
             fig, axes = orig(*a, **k)
             captured['axes'] = axes
             return fig, axes
+
         plt.subplots = spy
         try:
             pa.plot_alpha(plt, run, m, os.path.join(self.f.dir, 'spy.png'), 0.005)
@@ -255,16 +282,21 @@ class TestDecisions(unittest.TestCase):
         want = decision_events(self.f.robust)
         w = r['whole_run']
         self.assertEqual(w['decisions'], len(want))
-        self.assertEqual(w['decision_events'],
-                         sum(1 for ev in self.f.robust['events'] if ev['type'] == 4))
-        self.assertEqual(w['decisions_by_kind'],
-                         {k: sum(1 for ev in want if ev['decision'] == k) for k in pa.DECISIONS})
+        self.assertEqual(
+            w['decision_events'], sum(1 for ev in self.f.robust['events'] if ev['type'] == 4)
+        )
+        self.assertEqual(
+            w['decisions_by_kind'],
+            {k: sum(1 for ev in want if ev['decision'] == k) for k in pa.DECISIONS},
+        )
         ref = synthetic.reference_metrics(self.f.robust)
-        self.assertEqual([win['decisions'] for win in r['windows']],
-                         [rw['decisions'] for rw in ref])
+        self.assertEqual(
+            [win['decisions'] for win in r['windows']], [rw['decisions'] for rw in ref]
+        )
         # every event, DECISION ones included, with its fields; none on the others
-        self.assertEqual([e['type'] for e in r['events']],
-                         [e['type_name'] for e in self.f.robust['events']])
+        self.assertEqual(
+            [e['type'] for e in r['events']], [e['type_name'] for e in self.f.robust['events']]
+        )
         for e, ev in zip(r['events'], self.f.robust['events']):
             self.assertEqual(e['decision'], ev['decision'] or None)
         # the rac run of the same bag has none
@@ -287,16 +319,21 @@ class TestDecisions(unittest.TestCase):
 
     def test_report_lists_the_decisions(self):
         want = decision_events(self.f.robust)
-        self.assertIn('decisions (pa_robust verification): %d, %d of them DECISION events' % (
-            len(want), sum(1 for ev in want if ev['type'] == 4)), self.stdout)
+        self.assertIn(
+            'decisions (pa_robust verification): %d, %d of them DECISION events'
+            % (len(want), sum(1 for ev in want if ev['type'] == 4)),
+            self.stdout,
+        )
         # the last decision of each verification (from each onset)
         finals = pa.final_decisions([{'type': ev['type_name'], 't': ev['t']} for ev in want])
         self.assertEqual(len(finals), sum(1 for ev in want if ev['type'] == 0))
         for d in finals:
             ev = [e for e in want if e['t'] == d['t']][0]
             self.assertIn('t = %.3f s: %s' % (ev['t'], ev['decision']), self.stdout)
-            self.assertIn('residual %.3g rad against %.3g rad keeping' % (
-                ev['score'], ev['score_keep']), self.stdout)
+            self.assertIn(
+                'residual %.3g rad against %.3g rad keeping' % (ev['score'], ev['score_keep']),
+                self.stdout,
+            )
 
     def test_decisions_figure_written(self):
         p = os.path.join(self.out, 'decisions_pa.png')
@@ -308,6 +345,7 @@ class TestDecisions(unittest.TestCase):
     def _spy(self, fn, *args):
         """Call a plot function, returning its axes (matplotlib objects, not pixels)."""
         import matplotlib
+
         matplotlib.use('Agg')
         plt = pa._mpl()
         captured = {}
@@ -317,6 +355,7 @@ class TestDecisions(unittest.TestCase):
             fig, axes = orig(*a, **k)
             captured['axes'] = axes
             return fig, axes
+
         plt.subplots = spy
         try:
             fn(plt, *args)
@@ -327,12 +366,16 @@ class TestDecisions(unittest.TestCase):
     def _markers(self, ax):
         """{decision kind: [(x, y), ...]} of the decision markers drawn on ax."""
         import matplotlib
+
         out = {}
         for line in ax.get_lines():
             for kind, st in pa.DECISION_STYLE.items():
-                if (line.get_linestyle() == 'None' and line.get_marker() == st['marker'] and
-                        matplotlib.colors.to_hex(line.get_color()) ==
-                        matplotlib.colors.to_hex(st['color'])):
+                if (
+                    line.get_linestyle() == 'None'
+                    and line.get_marker() == st['marker']
+                    and matplotlib.colors.to_hex(line.get_color())
+                    == matplotlib.colors.to_hex(st['color'])
+                ):
                     out.setdefault(kind, []).extend(zip(line.get_xdata(), line.get_ydata()))
         return out
 
@@ -346,8 +389,7 @@ class TestDecisions(unittest.TestCase):
             got = self._markers(ax)
             for kind in pa.DECISIONS:
                 pts = sorted(got.get(kind, []))
-                exp = [(ev['t'], ev['theta_hat_after'][i]) for ev in want
-                       if ev['decision'] == kind]
+                exp = [(ev['t'], ev['theta_hat_after'][i]) for ev in want if ev['decision'] == kind]
                 np.testing.assert_allclose(pts, exp, atol=1e-12, err_msg='%s %d' % (kind, i))
         # ... labelled with score against keeping's at the last decision of each verification
         texts = [a.get_text() for a in axes[0].texts if ' vs keep ' in a.get_text()]
@@ -355,39 +397,54 @@ class TestDecisions(unittest.TestCase):
         self.assertEqual(len(texts), len(finals))
         for d in finals:
             self.assertIn(pa._decision_text(d), texts)
-        self.assertTrue(any(a.get_text().startswith('memory #') for a in axes[0].texts) or
-                        all(d['decision'] != 'memory' for d in finals))
+        self.assertTrue(
+            any(a.get_text().startswith('memory #') for a in axes[0].texts)
+            or all(d['decision'] != 'memory' for d in finals)
+        )
         # the error panel of the alpha figure: the same decisions at their e
         ax2 = self._spy(pa.plot_alpha, run, m, os.path.join(self.f.dir, 'spy_a.png'), 0.005)[1]
         got = self._markers(ax2)
         for kind in pa.DECISIONS:
-            np.testing.assert_allclose(sorted(got.get(kind, [])),
-                                       [(ev['t'], ev['e']) for ev in want
-                                        if ev['decision'] == kind], atol=1e-12)
+            np.testing.assert_allclose(
+                sorted(got.get(kind, [])),
+                [(ev['t'], ev['e']) for ev in want if ev['decision'] == kind],
+                atol=1e-12,
+            )
         # the decisions figure: score and score_keep per decision
         ax = self._spy(pa.plot_decisions, run, os.path.join(self.f.dir, 'spy_d.png'))
         got = self._markers(ax)
         for kind in pa.DECISIONS:
             ks = [k + 1 for k, ev in enumerate(want) if ev['decision'] == kind]
-            np.testing.assert_allclose(sorted(got.get(kind, [])),
-                                       [(k, want[k - 1]['score']) for k in ks], rtol=1e-12)
+            np.testing.assert_allclose(
+                sorted(got.get(kind, [])), [(k, want[k - 1]['score']) for k in ks], rtol=1e-12
+            )
 
     def test_message_fields_and_codes(self):
         """decision_code alone (an empty decision string) and the DECISION type code."""
-        m = types.SimpleNamespace(decision='', decision_code=3, chosen=2, candidates=5,
-                                  score=0.001, score_keep=0.1)
-        self.assertEqual(pa._msg_decision(m), {'decision': 'memory', 'chosen': 2,
-                                               'candidates': 5, 'score': 0.001,
-                                               'score_keep': 0.1})
+        m = types.SimpleNamespace(
+            decision='', decision_code=3, chosen=2, candidates=5, score=0.001, score_keep=0.1
+        )
+        self.assertEqual(
+            pa._msg_decision(m),
+            {'decision': 'memory', 'chosen': 2, 'candidates': 5, 'score': 0.001, 'score_keep': 0.1},
+        )
         m.decision_code = 0
         self.assertIsNone(pa._msg_decision(m)['decision'])
         cls = self.f.classes['AttentionEvent']
         self.assertEqual(cls.DECISION, 4)
         self.assertEqual(pa.EVENT_TYPES[cls.DECISION], 'decision')
-        self.assertEqual([pa.DECISIONS[c - 1] for c in (cls.DECISION_KEEP, cls.DECISION_FIT,
-                                                        cls.DECISION_MEMORY,
-                                                        cls.DECISION_NETWORK)],
-                         list(pa.DECISIONS))
+        self.assertEqual(
+            [
+                pa.DECISIONS[c - 1]
+                for c in (
+                    cls.DECISION_KEEP,
+                    cls.DECISION_FIT,
+                    cls.DECISION_MEMORY,
+                    cls.DECISION_NETWORK,
+                )
+            ],
+            list(pa.DECISIONS),
+        )
         self.assertEqual(cls.DECISION_NONE, 0)
 
     def test_old_bag_without_decision_fields(self):
@@ -427,8 +484,9 @@ class TestCsvInputs(unittest.TestCase):
         r = runs['out_rac']
         self.assertEqual(r['mode'], 'rac')
         self.assertEqual(len(r['events']), len(self.f.rac['events']))
-        self.assertEqual([e['type'] for e in r['events']],
-                         [e['type_name'] for e in self.f.rac['events']])
+        self.assertEqual(
+            [e['type'] for e in r['events']], [e['type_name'] for e in self.f.rac['events']]
+        )
         # phase column only: onsets/recoveries at the samples where phase changes
         p = runs['scenario_pa']
         self.assertEqual(p['mode'], 'pa')  # from the file name
@@ -470,8 +528,25 @@ class TestCsvInputs(unittest.TestCase):
         with open(path, 'w') as fh:
             fh.write(','.join(synthetic.CSV_HEADER) + '\n')
             for i in range(len(t)):
-                row = [t[i], 0, 0.1 + e[i], 0, 0, 0.1, 0, e[i], 0, u[i], 0, 0, 0,
-                       theta[i], theta[i], theta[i], phase[i]]
+                row = [
+                    t[i],
+                    0,
+                    0.1 + e[i],
+                    0,
+                    0,
+                    0.1,
+                    0,
+                    e[i],
+                    0,
+                    u[i],
+                    0,
+                    0,
+                    0,
+                    theta[i],
+                    theta[i],
+                    theta[i],
+                    phase[i],
+                ]
                 fh.write(','.join(repr(float(v)) for v in row) + '\n')
         m = pa.run_metrics(pa.load_runs(path)[0])
         self.assertEqual([s['t'] for s in m['switches']], [4.0, 7.0])
@@ -481,10 +556,10 @@ class TestCsvInputs(unittest.TestCase):
         self.assertAlmostEqual(w0['peak_abs_e'], 0.0)
         self.assertAlmostEqual(w1['peak_abs_e'], 0.02, places=12)
         self.assertAlmostEqual(w1['t_peak'], 5.0, places=9)
-        self.assertAlmostEqual(w1['iae'], 0.02, places=9)        # area 0.5 * 2 s * 0.02
+        self.assertAlmostEqual(w1['iae'], 0.02, places=9)  # area 0.5 * 2 s * 0.02
         self.assertAlmostEqual(w2['peak_abs_e'], 0.01, places=12)
         self.assertAlmostEqual(w2['t_peak'], 8.0, places=9)
-        self.assertAlmostEqual(w2['iae'], 0.005, places=9)       # 0.5 * 1 s * 0.01
+        self.assertAlmostEqual(w2['iae'], 0.005, places=9)  # 0.5 * 1 s * 0.01
         self.assertAlmostEqual(m['whole_run']['iae'], 0.025, places=9)
         self.assertAlmostEqual(m['whole_run']['max_abs_u'], 0.3)
         self.assertAlmostEqual(w1['onset_delay'], 0.2, places=9)
@@ -523,6 +598,7 @@ class TestErrors(unittest.TestCase):
 
     def test_bag_without_messages(self):
         import rosbag
+
         p = os.path.join(self.d, 'nomsgs.bag')
         with rosbag.Bag(p, 'w'):
             pass
@@ -532,19 +608,25 @@ class TestErrors(unittest.TestCase):
         import rosbag
         import rospy
         from std_msgs.msg import String
+
         p = os.path.join(self.d, 'chatter.bag')
         with rosbag.Bag(p, 'w') as b:
             b.write('/chatter', String('hello'), rospy.Time(1))
         self.assertInputError(p, 'no preadaptive_mrac run', '/plant/state', '/chatter')
 
     def test_bag_missing_truth(self):
-        p = synthetic.write_bag(os.path.join(self.d, 'notruth.bag'), {'': self.f.rac},
-                                self.f.classes, skip_topics=('plant/truth',))
+        p = synthetic.write_bag(
+            os.path.join(self.d, 'notruth.bag'),
+            {'': self.f.rac},
+            self.f.classes,
+            skip_topics=('plant/truth',),
+        )
         line = self.assertInputError(p, 'missing topic', '/plant/truth')
         self.assertNotIn('/controller/status', line)
 
     def test_compare_bag_missing_one_status(self):
         import rosbag
+
         p = os.path.join(self.d, 'half.bag')
         with rosbag.Bag(self.f.compare_bag) as src, rosbag.Bag(p, 'w') as dst:
             for topic, msg, t in src.read_messages(raw=True):
@@ -558,10 +640,16 @@ class TestErrors(unittest.TestCase):
         self.assertInputError(p, 'unindexed', 'rosbag reindex %s' % p)
         # what the message tells the user to do makes the file readable
         if shutil.which('rosbag'):
-            subprocess.run(['rosbag', 'reindex', p], check=True, stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, timeout=120)
+            subprocess.run(
+                ['rosbag', 'reindex', p],
+                check=True,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                timeout=120,
+            )
         else:
             import rosbag
+
             with rosbag.Bag(p, 'a', allow_unindexed=True) as b:
                 for _ in b.reindex():
                     pass
@@ -588,12 +676,24 @@ class TestErrors(unittest.TestCase):
         self.assertInputError(p, 'no data rows')
 
     def test_labels_count_and_unknown_baseline(self):
-        rc, so, se = run_cli(self.f.compare_bag, '--labels', 'only_one', '--no-figures',
-                             '--out', os.path.join(self.d, 'o'))
+        rc, so, se = run_cli(
+            self.f.compare_bag,
+            '--labels',
+            'only_one',
+            '--no-figures',
+            '--out',
+            os.path.join(self.d, 'o'),
+        )
         self.assertEqual(rc, 2)
         self.assertIn('1 label(s) given for 2 run(s)', se)
-        rc, so, se = run_cli(self.f.compare_bag, '--baseline', 'zzz', '--no-figures',
-                             '--out', os.path.join(self.d, 'o'))
+        rc, so, se = run_cli(
+            self.f.compare_bag,
+            '--baseline',
+            'zzz',
+            '--no-figures',
+            '--out',
+            os.path.join(self.d, 'o'),
+        )
         self.assertEqual(rc, 2)
         self.assertIn("no run labelled 'zzz'", se)
 
@@ -602,8 +702,18 @@ class TestLabelsAndBaseline(unittest.TestCase):
     def test_two_single_run_bags(self):
         f = Fixtures.make()
         out = os.path.join(f.dir, 'out_labels')
-        rc, so, se = run_cli(f.pa_bag, f.rac_bag, '--labels', 'PA', 'RAC', '--baseline', 'PA',
-                             '--out', out, '--no-figures')
+        rc, so, se = run_cli(
+            f.pa_bag,
+            f.rac_bag,
+            '--labels',
+            'PA',
+            'RAC',
+            '--baseline',
+            'PA',
+            '--out',
+            out,
+            '--no-figures',
+        )
         self.assertEqual(rc, 0, se)
         with open(os.path.join(out, 'metrics.json')) as fh:
             doc = json.load(fh)
@@ -614,14 +724,14 @@ class TestLabelsAndBaseline(unittest.TestCase):
 
 
 class TestVizMarkersOffline(unittest.TestCase):
-    """scripts/viz_markers without a master: message decoding and marker geometry."""
+    """preadaptive_mrac.viz (scripts/viz_markers) without a master: message decoding and marker
+    geometry."""
 
     @classmethod
     def setUpClass(cls):
-        loader = importlib.machinery.SourceFileLoader('viz_markers_mod',
-                                                      os.path.join(SCRIPTS, 'viz_markers'))
-        cls.vm = types.ModuleType(loader.name)
-        loader.exec_module(cls.vm)
+        from preadaptive_mrac.viz import markers
+
+        cls.vm = markers
         cls.classes = synthetic.load_msg_classes()
 
     def _viz(self):
@@ -630,6 +740,7 @@ class TestVizMarkersOffline(unittest.TestCase):
         v.history, v.history_points, v.alpha_scale = 10.0, 400, 20.0
         import threading
         import collections
+
         v.lock = threading.Lock()
         v.state = v.status = v.truth = v.last_event = None
         v.events = collections.deque(maxlen=200)
@@ -648,8 +759,14 @@ class TestVizMarkersOffline(unittest.TestCase):
             m.t = 0.042
         buf = io.BytesIO()
         m.serialize(buf)
-        raw = types.SimpleNamespace(_buff=buf.getvalue(), _connection_header={
-            'type': cls._type, 'md5sum': cls._md5sum, 'message_definition': cls._full_text})
+        raw = types.SimpleNamespace(
+            _buff=buf.getvalue(),
+            _connection_header={
+                'type': cls._type,
+                'md5sum': cls._md5sum,
+                'message_definition': cls._full_text,
+            },
+        )
         got = []
         sub = self.vm.DynamicSubscriber.__new__(self.vm.DynamicSubscriber)
         sub._callback, sub._classes = got.append, {}
@@ -668,8 +785,14 @@ class TestVizMarkersOffline(unittest.TestCase):
                 setattr(m, k, v)
         buf = io.BytesIO()
         m.serialize(buf)
-        return types.SimpleNamespace(_buff=buf.getvalue(), _connection_header={
-            'type': cls._type, 'md5sum': cls._md5sum, 'message_definition': cls._full_text})
+        return types.SimpleNamespace(
+            _buff=buf.getvalue(),
+            _connection_header={
+                'type': cls._type,
+                'md5sum': cls._md5sum,
+                'message_definition': cls._full_text,
+            },
+        )
 
     def test_concurrent_decoding(self):
         """rospy calls each subscription's callback in its own thread; classes generated at
@@ -677,6 +800,7 @@ class TestVizMarkersOffline(unittest.TestCase):
         import threading
         import time
         import genpy.generate_struct as gs
+
         # Widen the race window as a loaded machine does: yield the CPU whenever the
         # generator records a struct pattern in its module-level list.
         orig_add = gs.add_pattern
@@ -684,12 +808,15 @@ class TestVizMarkersOffline(unittest.TestCase):
         def slow_add(p):
             time.sleep(0.0005)
             orig_add(p)
+
         gs.add_pattern = slow_add
         self.addCleanup(setattr, gs, 'add_pattern', orig_add)
-        raws = [self._raw('PlantState', step=7, t=0.007, alpha=0.1),
-                self._raw('AdaptationStatus', step=7, t=0.007, e=0.002, mode='pa'),
-                self._raw('AttentionEvent', step=7, t=0.007, type_name='onset'),
-                self._raw('ElevatorCommand', step=7, t=0.007, u=-0.3)]
+        raws = [
+            self._raw('PlantState', step=7, t=0.007, alpha=0.1),
+            self._raw('AdaptationStatus', step=7, t=0.007, e=0.002, mode='pa'),
+            self._raw('AttentionEvent', step=7, t=0.007, type_name='onset'),
+            self._raw('ElevatorCommand', step=7, t=0.007, u=-0.3),
+        ]
         errors, decoded = [], []
         for _ in range(3):
             barrier = threading.Barrier(8)
@@ -702,6 +829,7 @@ class TestVizMarkersOffline(unittest.TestCase):
                     sub._on_raw(raw)
                 except Exception as ex:  # noqa: BLE001 - any failure counts
                     errors.append(repr(ex))
+
             threads = [threading.Thread(target=work, args=(raws[i % 4],)) for i in range(8)]
             for th in threads:
                 th.start()
@@ -714,9 +842,13 @@ class TestVizMarkersOffline(unittest.TestCase):
     def test_markers_from_a_run(self):
         v = self._viz()
         for rel, msg, t in synthetic.make_messages(self.f_sim(), self.classes):
-            {'plant/state': v.on_state, 'controller/status': v.on_status,
-             'controller/attention': v.on_attention, 'plant/truth': v.on_truth,
-             'controller/elevator_cmd': lambda m: None}[rel](msg)
+            {
+                'plant/state': v.on_state,
+                'controller/status': v.on_status,
+                'controller/attention': v.on_attention,
+                'plant/truth': v.on_truth,
+                'controller/elevator_cmd': lambda m: None,
+            }[rel](msg)
         arr = v.build()
         by = {(m.ns, m.id): m for m in arr.markers}
         self.assertEqual(by[('aircraft', 0)].header.frame_id, 'body')
@@ -738,7 +870,7 @@ class TestVizMarkersOffline(unittest.TestCase):
         # every quaternion is normalised (rviz warns otherwise)
         for m in arr.markers:
             q = m.pose.orientation
-            self.assertAlmostEqual(q.x ** 2 + q.y ** 2 + q.z ** 2 + q.w ** 2, 1.0, places=9)
+            self.assertAlmostEqual(q.x**2 + q.y**2 + q.z**2 + q.w**2, 1.0, places=9)
 
     def test_last_event_text_shows_a_decision(self):
         v = self._viz()
@@ -748,18 +880,24 @@ class TestVizMarkersOffline(unittest.TestCase):
         for rel, msg, t in synthetic.make_messages(sim, self.classes):
             if t > 10.325:
                 break
-            {'plant/state': v.on_state, 'controller/status': v.on_status,
-             'controller/attention': v.on_attention, 'plant/truth': v.on_truth,
-             'controller/elevator_cmd': lambda m: None}[rel](msg)
+            {
+                'plant/state': v.on_state,
+                'controller/status': v.on_status,
+                'controller/attention': v.on_attention,
+                'plant/truth': v.on_truth,
+                'controller/elevator_cmd': lambda m: None,
+            }[rel](msg)
         texts = [m.text for m in v.build().markers if m.ns == 'text' and m.action == m.ADD]
         self.assertIn('last event: DECISION at %.3f s' % last['t'], texts[4])
-        self.assertIn('%s: %.2g vs keep %.2g rad' % (last['decision'], last['score'],
-                                                     last['score_keep']), texts[4])
+        self.assertIn(
+            '%s: %.2g vs keep %.2g rad' % (last['decision'], last['score'], last['score_keep']),
+            texts[4],
+        )
 
     def test_elevator_plate_trailing_edge_down_for_positive_u(self):
         v = self._viz()
         plate = [m for m in v.aircraft(0.2) if m.id == 5][0]
-        self.assertLess(plate.pose.position.z, 0.15)   # hinge height 0.15 m
+        self.assertLess(plate.pose.position.z, 0.15)  # hinge height 0.15 m
         plate = [m for m in v.aircraft(-0.2) if m.id == 5][0]
         self.assertGreater(plate.pose.position.z, 0.15)
 

@@ -56,6 +56,9 @@ struct PlantNodeParams {
   /// down, instead of exiting 0. Lets a launch file mark the plant required (a failing plant
   /// ends the launch) where its normal end must not (compare.launch: two plants).
   bool linger = false;
+  /// Every optional key left out and filled with its default ("<key> = <value>", resolved
+  /// names): the node's own (~dt, ~clock, ...) and those of the plant and scenario sections.
+  std::vector<std::string> defaults_used;
 };
 
 /// \brief Everything mrac_controller_node reads from `~`.
@@ -78,7 +81,14 @@ struct ControllerNodeParams {
   /// does not adapt; (0, 1e6].
   double stale_timeout = 0.05;
   double diagnostic_period = 1.0;  ///< ~diagnostic_period: read by diagnostic_updater [s]
+  /// Every optional key left out and filled with its default (the node's own, then the plant
+  /// and controller sections').
+  std::vector<std::string> defaults_used;
 };
+
+/// \brief One start-up line naming every optional key filled with its default:
+/// "optional keys filled with defaults: k1 = v1, k2 = v2" (or "...: none").
+std::string defaultsLine(const std::vector<std::string>& defaults_used);
 
 /// \brief Read and validate plant_sim_node's private parameters. Throws ConfigError listing
 /// every problem, each naming its key in `style` (e.g. "/plant_sim/dt").

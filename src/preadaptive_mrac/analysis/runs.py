@@ -1,0 +1,173 @@
+"""Runs of the closed loop as the analysis sees them: topic and CSV layouts, Run, InputError,
+and the decoding shared by the bag and CSV readers."""
+
+import os
+import re
+
+
+# AttentionEvent.type 0..4 by name; 'decision' is pa_robust's re-decision inside a phase.
+EVENT_TYPES = ('onset', 'recovered', 'ignored_onset', 'ignored_recovery', 'decision')
+# What a pa_robust verification chose (AttentionEvent.decision / decision_code 1..4).
+DECISIONS = ('keep', 'fit', 'memory', 'network')
+DECISION_FIELDS = ('decision', 'chosen', 'candidates', 'score', 'score_keep')
+MODES = ('pa_learn_exact', 'pa_learn', 'pa_robust', 'oracle', 'pa', 'rac')
+MODE_TEXT = {
+    'rac': 'regular adaptive control',
+    'pa': 'preadaptation, no learning',
+    'pa_learn': 'preadaptation + learning (approx. gradient)',
+    'pa_learn_exact': 'preadaptation + learning (exact gradient)',
+    'pa_robust': 'robust preadaptation (residual trigger, regime memory, verification)',
+    'oracle': 'oracle yardstick: theta_hat := true theta at each switch',
+}
+
+# Relative topic names and message type base names the nodes publish (msg/*.msg).
+TOPICS = {
+    'state': ('plant/state', 'PlantState'),
+    'truth': ('plant/truth', 'PlantTruth'),
+    'status': ('controller/status', 'AdaptationStatus'),
+    'elevator': ('controller/elevator_cmd', 'ElevatorCommand'),
+    'attention': ('controller/attention', 'AttentionEvent'),
+}
+REQUIRED = ('state', 'status', 'truth')
+WHY = {
+    'state': 'alpha',
+    'status': 'alpha_ref, e and theta_hat',
+    'truth': 'the true theta, whose switches define the windows',
+}
+
+CSV_HEADER = (
+    't,x0,x1,x2,xr0,xr1,xr2,e,e_dot_est,u,theta_hat0,theta_hat1,theta_hat2,'
+    'theta_true0,theta_true1,theta_true2,phase'
+)
+CSV_REQUIRED = (
+    't',
+    'x1',
+    'xr1',
+    'e',
+    'u',
+    'theta_hat0',
+    'theta_hat1',
+    'theta_hat2',
+    'theta_true0',
+    'theta_true1',
+    'theta_true2',
+)
+
+# Time stamps larger than this are wall-clock (epoch) stamps, not simulation time.
+EPOCH_LIKE = 1.0e6
+
+
+class InputError(Exception):
+    """A problem with an input file; str() is one line naming the file."""
+
+    def __init__(self, path, what):
+        super().__init__('%s: %s' % (path, what))
+        self.path = path
+        self.what = what
+
+
+class Run:
+    """One closed-loop run: time series and attention events.
+
+    Time series (numpy arrays, time in seconds of simulation time):
+      t_e, e, e_dot, alpha_ref, theta_hat (N x 3)   controller samples
+      t_alpha, alpha                                 plant samples
+      t_theta, theta (M x 3)                         true theta
+      t_u, u, u_bl, u_ad (u_bl/u_ad may be None)     elevator command
+    events: list of dicts with keys type (one of EVENT_TYPES), t, e, e_dot,
+      theta_hat_before, theta_hat_after, reset, cost, grad, learned, episodes (None where
+      the source does not say), and pa_robust's verification: decision (one of DECISIONS,
+      None when the event carries none: every event of the other modes, and of bags
+      recorded before the field existed), chosen, candidates, score, score_keep.
+    """
+
+    def __init__(self, label, source, namespace=''):
+        self.label = label
+        self.source = source
+        self.namespace = namespace
+        self.mode = 'unknown'
+        self.mode_from = ''
+        self.notes = []
+        self.events = []
+        self.episodes = None
+        self.t_e = self.e = self.e_dot = self.alpha_ref = self.theta_hat = None
+        self.t_alpha = self.alpha = None
+        self.t_theta = self.theta = None
+        self.t_u = self.u = self.u_bl = self.u_ad = None
+        self.u_source = ''
+        self.summary = None  # the batch CLI's --json object, for a CSV input
+
+    def describe(self):
+        where = os.path.basename(self.source) + (' [%s]' % self.namespace if self.namespace else '')
+        return "'%s' (mode %s) from %s" % (self.label, self.mode, where)
+
+
+def _guess_mode(name):
+    """A mode named in a file name (scenario1_pa_learn.csv -> pa_learn); None if none or
+    more than one is named."""
+    s = os.path.splitext(os.path.basename(name))[0].lower().replace('-', '_')
+    s = s.replace('pa_learn_exact', ' PALE ').replace('pa_learn', ' PAL ')
+    s = s.replace('pa_robust', ' PAR ')
+    toks = set(re.split(r'[^A-Za-z0-9]+', s))
+    found = [
+        m
+        for tok, m in (
+            ('PALE', 'pa_learn_exact'),
+            ('PAL', 'pa_learn'),
+            ('PAR', 'pa_robust'),
+            ('oracle', 'oracle'),
+            ('pa', 'pa'),
+            ('rac', 'rac'),
+        )
+        if tok in toks
+    ]
+    return found[0] if len(found) == 1 else None
+
+
+def _no_decision():
+    return {k: None for k in DECISION_FIELDS}
+
+
+def _msg_decision(m):
+    """pa_robust's verification fields of an AttentionEvent; all None when it carries none
+    (decision '' / DECISION_NONE) or was recorded before the fields existed."""
+    name = getattr(m, 'decision', '') or ''
+    if not name:
+        code = int(getattr(m, 'decision_code', 0) or 0)
+        name = DECISIONS[code - 1] if 1 <= code <= len(DECISIONS) else ''
+    if not name:
+        return _no_decision()
+    return {
+        'decision': name,
+        'chosen': int(getattr(m, 'chosen', -1)),
+        'candidates': int(getattr(m, 'candidates', 0)),
+        'score': float(getattr(m, 'score', 0.0)),
+        'score_keep': float(getattr(m, 'score_keep', 0.0)),
+    }
+
+
+def _json_decision(ev):
+    """The same from an event of the batch CLI's --json summary."""
+    if not ev.get('decision'):
+        return _no_decision()
+    return {
+        'decision': ev['decision'],
+        'chosen': ev.get('chosen'),
+        'candidates': ev.get('candidates'),
+        'score': ev.get('score'),
+        'score_keep': ev.get('score_keep'),
+    }
+
+
+def _rebase_epoch(run):
+    t0 = float(run.t_e[0])
+    if t0 > EPOCH_LIKE:
+        for name in ('t_e', 't_alpha', 't_theta', 't_u'):
+            v = getattr(run, name)
+            if v is not None:
+                setattr(run, name, v - t0)
+        for ev in run.events:
+            ev['t'] -= t0
+        run.notes.append(
+            'stamps are wall-clock times: time is measured from the first ' 'controller sample'
+        )

@@ -1,0 +1,109 @@
+"""preadaptive_mrac.analysis.loading and csv_runs: every input error names the file; a CSV of
+the batch CLI with its --json summary beside it loads with events, mode and unique labels."""
+
+import json
+import os
+import shutil
+import tempfile
+import unittest
+
+import pkg_path  # noqa: F401
+from preadaptive_mrac.analysis import csv_runs, loading, runs
+
+HEADER = runs.CSV_HEADER
+
+
+def write_csv(path, n=2001, dt=0.01, switch_at=10.0):
+    with open(path, 'w') as f:
+        f.write(HEADER + '\n')
+        for i in range(n):
+            t = i * dt
+            c = 1.0 if t < switch_at else 2.0
+            e = 0.01 if abs(t - switch_at) < 0.5 else 0.0
+            row = [t, 0, 0.1 + e, 0, 0, 0.1, 0, e, 0, 0.2, 1, 1, 1, c, c, c, 0]
+            f.write(','.join('%g' % v for v in row) + '\n')
+    return path
+
+
+class TestInputErrors(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix='pmrac_loading_')
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def expect(self, path, what):
+        with self.assertRaises(runs.InputError) as cm:
+            loading.load_runs(path)
+        self.assertEqual(cm.exception.path, path)
+        self.assertIn(what, str(cm.exception))
+
+    def test_missing_directory_empty_and_fake_bag(self):
+        self.expect(os.path.join(self.dir, 'nope.csv'), 'no such file')
+        self.expect(self.dir, 'is a directory')
+        empty = os.path.join(self.dir, 'empty.csv')
+        open(empty, 'w').close()
+        self.expect(empty, 'empty file (0 bytes)')
+        fake = os.path.join(self.dir, 'fake.bag')
+        with open(fake, 'w') as f:
+            f.write('hello\n')
+        self.expect(fake, 'not a ROS bag')
+
+    def test_csv_without_the_columns(self):
+        p = os.path.join(self.dir, 'other.csv')
+        with open(p, 'w') as f:
+            f.write('t,x1\n0,0\n')
+        self.expect(p, 'missing columns xr1, e, u')
+
+    def test_summary_json_last_line(self):
+        p = os.path.join(self.dir, 'x.json')
+        with open(p, 'w') as f:
+            f.write('some log line\n{"mode": "rac"}\n')
+        self.assertEqual(csv_runs._parse_summary_json(p), {'mode': 'rac'})
+        with open(p, 'w') as f:
+            f.write('no json here\n')
+        with self.assertRaises(runs.InputError):
+            csv_runs._parse_summary_json(p)
+
+
+class TestCsvRuns(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix='pmrac_csv_')
+        cls.rac = write_csv(os.path.join(cls.dir, 's1_rac.csv'))
+        cls.pa = write_csv(os.path.join(cls.dir, 's1_pa_learn.csv'))
+        with open(os.path.join(cls.dir, 's1_pa_learn.json'), 'w') as f:
+            json.dump(
+                {
+                    'mode': 'pa_learn',
+                    'dt': 0.01,
+                    'episodes': 1,
+                    'events': [{'type': 'onset', 't': 10.2}],
+                },
+                f,
+            )
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir)
+
+    def test_mode_and_events(self):
+        (rac,) = loading.load_runs(self.rac)
+        (pa,) = loading.load_runs(self.pa)
+        self.assertEqual((rac.mode, pa.mode), ('rac', 'pa_learn'))
+        self.assertEqual([e['type'] for e in pa.events], ['onset'])
+        self.assertAlmostEqual(pa.events[0]['t'], 10.2)
+        self.assertEqual(len(rac.t_e), 2001)
+
+    def test_labels_unique_or_given(self):
+        two = loading.load_inputs([self.rac, self.rac])
+        self.assertEqual(len({r.label for r in two}), 2)
+        named = loading.load_inputs([self.rac, self.pa], labels=['A', 'B'])
+        self.assertEqual([r.label for r in named], ['A', 'B'])
+        with self.assertRaises(runs.InputError) as cm:
+            loading.load_inputs([self.rac], labels=['A', 'B'])
+        self.assertIn('2 label(s) given for 1 run(s)', str(cm.exception))
+
+
+if __name__ == '__main__':
+    unittest.main()

@@ -1,0 +1,141 @@
+"""docs/parameters.md against the package: every key of the shipped YAML files and every key the
+config readers and the nodes read has a row, and every row names a key that something reads."""
+
+import glob
+import os
+import re
+import unittest
+
+import yaml
+
+import pkg_path
+
+ROOT = pkg_path.ROOT
+DOC = os.path.join(ROOT, 'docs', 'parameters.md')
+
+
+def read(rel):
+    with open(os.path.join(ROOT, rel)) as f:
+        return f.read()
+
+
+def table_rows():
+    """(key, nodes) of each row: nodes is () for a config key, else the nodes named after it."""
+    rows = []
+    for line in read('docs/parameters.md').splitlines():
+        m = re.match(r'^\| `([^`]+)`( \(([^)]*)\))? \|', line)
+        if m and m.group(1) != 'name':
+            nodes = tuple(n.strip() for n in m.group(3).split(',')) if m.group(3) else ()
+            rows.append((m.group(1), nodes))
+    return rows
+
+
+def yaml_keys(node, path=''):
+    """Dotted keys of every leaf and list of segments (not of the maps that only group keys);
+    list entries as `[]`."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            key = '%s.%s' % (path, k) if path else str(k)
+            if not isinstance(v, dict):
+                yield key
+            yield from yaml_keys(v, key)
+    elif isinstance(node, list) and node and all(isinstance(x, dict) for x in node):
+        for x in node:
+            yield from yaml_keys(x, path + '[]')
+
+
+def function_body(text, name):
+    i = text.index(name + '(const ParamValue& tree')
+    j = text.find('\n}\n', i)
+    return text[i:j]
+
+
+def node_keys():
+    """Private parameters each node reads, from its source."""
+    keys = {}
+    npc = read('src/ros/node_params.cpp')
+    rx = r'(?:r\.get\w+\(|readCount\(r, )"(\w+)"'
+    keys['plant_sim_node'] = set(re.findall(rx, function_body(npc, 'readPlantNodeParams')))
+    keys['mrac_controller_node'] = set(
+        re.findall(rx, function_body(npc, 'readControllerNodeParams'))
+    )
+    rec = read('src/ros/bag_recorder.cpp')
+    keys['bag_recorder_node'] = set(re.findall(r'pnh\.(?:param<[^>]+>|getParam)\("(\w+)"', rec))
+    keys['run_monitor_node'] = set(
+        re.findall(r'pnh\.getParam\("(\w+)"', read('src/ros/run_monitor.cpp'))
+    )
+    keys['viz_markers'] = set(
+        re.findall(r"get_param\('~(\w+)'", read('src/preadaptive_mrac/viz/markers.py'))
+    )
+    return keys
+
+
+def config_code_suffixes():
+    """The dotted suffixes the config readers put after a section prefix (".lqr.Q", ".std")."""
+    out = set()
+    for rel in ('src/core/controller.cpp', 'src/core/plant.cpp', 'src/core/scenario.cpp'):
+        out |= set(re.findall(r'"\.([a-zA-Z_][\w.]*)"', read(rel)))
+    return out
+
+
+class TestParameterReference(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.rows = table_rows()
+        cls.config = {k for k, nodes in cls.rows if not nodes}
+        cls.by_node = {}
+        for k, nodes in cls.rows:
+            for n in nodes:
+                cls.by_node.setdefault(n, set()).add(k.lstrip('~'))
+
+    def test_the_table_is_read(self):
+        self.assertGreater(len(self.config), 60)
+        self.assertIn('controller.attention.hysteresis', self.config)
+        self.assertIn('dt', self.by_node['plant_sim_node'])
+
+    def test_every_key_of_the_shipped_yaml_files_has_a_row(self):
+        files = ['config/controller/default.yaml', 'config/plant/b747.yaml']
+        files += sorted(
+            os.path.relpath(p, ROOT) for p in glob.glob(os.path.join(ROOT, 'config/scenarios/*'))
+        )
+        self.assertGreaterEqual(len(files), 5)
+        for rel in files:
+            with open(os.path.join(ROOT, rel)) as f:
+                doc = yaml.safe_load(f)
+            missing = sorted(set(yaml_keys(doc)) - self.config)
+            self.assertEqual(missing, [], '%s: keys missing from docs/parameters.md' % rel)
+
+    def test_every_key_the_config_readers_read_has_a_row(self):
+        flat = {k.replace('[]', '') for k in self.config}
+        missing = sorted(
+            s
+            for s in config_code_suffixes()
+            if not any(k.endswith('.' + s) or ('.' + s + '.') in k for k in flat)
+        )
+        self.assertEqual(missing, [], 'read by src/core but missing from docs/parameters.md')
+
+    def test_every_node_parameter_has_a_row_and_every_row_is_read(self):
+        for node, keys in node_keys().items():
+            self.assertTrue(keys, 'no parameters found for %s (pattern out of date?)' % node)
+            documented = self.by_node.get(node, set())
+            self.assertEqual(sorted(keys - documented), [], '%s: undocumented' % node)
+            self.assertEqual(sorted(documented - keys), [], '%s: documented, never read' % node)
+        self.assertEqual(sorted(set(self.by_node) - set(node_keys())), [], 'unknown node')
+
+    def test_every_config_row_is_a_shipped_or_read_key(self):
+        shipped = set()
+        for p in glob.glob(os.path.join(ROOT, 'config', '*', '*.yaml')):
+            with open(p) as f:
+                shipped |= set(yaml_keys(yaml.safe_load(f)))
+        suffixes = config_code_suffixes()
+        stale = sorted(
+            k
+            for k in self.config - shipped
+            if not any(k.replace('[]', '').endswith('.' + s) for s in suffixes)
+            and k not in ('scenario.reference', 'controller.robust', 'controller.projection')
+        )
+        self.assertEqual(stale, [], 'rows of docs/parameters.md that nothing reads or ships')
+
+
+if __name__ == '__main__':
+    unittest.main()
