@@ -40,6 +40,7 @@ TOPICS = {
     'status': ('controller/status', 'AdaptationStatus'),
     'elevator': ('controller/elevator_cmd', 'ElevatorCommand'),
     'attention': ('controller/attention', 'AttentionEvent'),
+    'param_change': ('controller/param_change', 'ParamChange'),  # dynamic_reconfigure
 }
 REQUIRED = ('state', 'status', 'truth')
 WHY = {'state': 'alpha', 'status': 'alpha_ref, e and theta_hat',
@@ -93,6 +94,9 @@ class Run:
         self.t_u = self.u = self.u_bl = self.u_ad = None
         self.u_source = ''
         self.summary = None  # the batch CLI's --json object, for a CSV input
+        # dynamic_reconfigure changes (controller/param_change): dicts t, step, name,
+        # old_value, new_value; drawn as markers on the time plots
+        self.param_changes = []
 
     def describe(self):
         where = os.path.basename(self.source) + (' [%s]' % self.namespace if self.namespace else '')
@@ -323,6 +327,11 @@ def _fill_from_bag(run, acc, path):
         run.episodes = max(run.episodes or 0, int(m.episodes))
     if not acc['attention']:
         run.notes.append('no %s/controller/attention messages: no attention events' % ns)
+    for m, _ in acc.get('param_change', []):
+        run.param_changes.append({'t': float(m.t), 'step': int(m.step), 'name': m.name,
+                                  'old_value': m.old_value, 'new_value': m.new_value})
+        run.notes.append('%s: %.6g -> %.6g at t = %.6g s (step %d)' % (
+            m.name, m.old_value, m.new_value, m.t, m.step))
     _rebase_epoch(run)
 
 
@@ -600,6 +609,7 @@ def run_metrics(run):
         'events': [{k2: (_f(v) if isinstance(v, float) else
                          ([_f(x) for x in v] if isinstance(v, list) else v))
                     for k2, v in ev.items()} for ev in run.events],
+        'param_changes': [dict(c) for c in run.param_changes],
         'notes': list(run.notes),
     }
 
@@ -874,6 +884,28 @@ def _event_lines(ax, run, with_labels=True, lw=1.0):
     return handles
 
 
+PARAM_COLOR = 'tab:purple'
+
+
+def _param_change_lines(ax, run, annotate=True):
+    """Dash-dotted vertical lines at the steps dynamic_reconfigure changes took effect, with
+    'key old -> new' beside them (changes of one step share a line); returns the lines."""
+    by_t = {}
+    for c in run.param_changes:
+        by_t.setdefault(c['t'], []).append(c)
+    lines = []
+    for i, (t, cs) in enumerate(sorted(by_t.items())):
+        lines.append(ax.axvline(t, color=PARAM_COLOR, ls='-.', lw=1.2, zorder=1,
+                                label='parameter change' if i == 0 and annotate else None))
+        if annotate:
+            txt = '\n'.join('%s %.4g$\\to$%.4g' % (c['name'].split('.')[-1], c['old_value'],
+                                                    c['new_value']) for c in cs)
+            ax.annotate(txt, xy=(t, 0.0), xycoords=('data', 'axes fraction'), xytext=(2, 2),
+                        textcoords='offset points', va='bottom', ha='left', fontsize=8,
+                        color=PARAM_COLOR, annotation_clip=True)
+    return lines
+
+
 def _switch_lines(ax, m, annotate=True):
     for i, s in enumerate(m['switches']):
         ax.axvline(s['t'], color=SWITCH_COLOR, ls=':', lw=1.2, zorder=0,
@@ -930,6 +962,7 @@ def plot_alpha(plt, run, m, path, c_e, xlim=None):
             label=r'$\alpha_{ref}$ (reference model)', zorder=3)
     _switch_lines(ax, m)
     _event_lines(ax, run)
+    _param_change_lines(ax, run)
     ax.set_ylabel(r'angle of attack $\alpha$ [rad]')
     ax.set_title("Response of $\\alpha$: run '%s', mode %s (%s)" % (
         run.label, run.mode, MODE_TEXT.get(run.mode, 'unknown mode')))
@@ -940,6 +973,7 @@ def plot_alpha(plt, run, m, path, c_e, xlim=None):
     ax2.axhline(-c_e, color='0.4', ls='--', lw=0.9)
     _switch_lines(ax2, m, annotate=False)
     _event_lines(ax2, run, with_labels=False)
+    _param_change_lines(ax2, run, annotate=False)
     ign = [ev for ev in run.events if ev['type'] in ('ignored_onset', 'ignored_recovery')
            and ev.get('e') is not None]
     for kind, mk, col in (('ignored_onset', 'x', ONSET_COLOR), ('ignored_recovery', 'x', RECOVERY_COLOR)):
@@ -1066,6 +1100,7 @@ def plot_theta(plt, run, m, path, xlim=None):
                 label=r'$\theta_%d$ true' % i, zorder=2)
         _switch_lines(ax, m, annotate=(i == 0))
         _event_lines(ax, run, with_labels=(i == 0))
+        _param_change_lines(ax, run, annotate=(i == 0))
         for ev in run.events:
             if _is_paper_reset(ev):
                 ax.plot(ev['t'], ev['theta_hat_after'][i], marker='o', ms=5, mfc='none',
@@ -1156,6 +1191,7 @@ def plot_elevator(plt, run, m, path, xlim=None):
                 label=r'$u_{ad} = -\hat\theta^T x$ (adaptive)', zorder=2)
     _switch_lines(ax, m)
     _event_lines(ax, run)
+    _param_change_lines(ax, run)
     ax.set_ylabel(r'elevator command $u$ [rad]')
     ax.set_xlabel('time $t$ [s]')
     ax.set_title("Elevator command: run '%s' (mode %s; from %s)" % (run.label, run.mode, run.u_source))
