@@ -12,7 +12,8 @@ add_library(preadaptive_mrac_core
   src/core/regime_memory.cpp
   src/core/closed_loop.cpp
   src/core/scenario_family.cpp
-  src/core/input_guard.cpp)
+  src/core/input_guard.cpp
+  src/core/tunables.cpp)
 target_include_directories(preadaptive_mrac_core PUBLIC
   $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> ${EIGEN3_INCLUDE_DIRS})
 set_target_properties(preadaptive_mrac_core PROPERTIES POSITION_INDEPENDENT_CODE ON)

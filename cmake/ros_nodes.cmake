@@ -13,12 +13,13 @@ add_library(preadaptive_mrac_ros
   src/ros/plant_sim_node.cpp
   src/ros/mrac_controller_node.cpp
   src/ros/run_monitor.cpp
-  src/ros/bag_recorder.cpp)
+  src/ros/bag_recorder.cpp
+  src/ros/controller_reconfigure.cpp)
 target_include_directories(preadaptive_mrac_ros PUBLIC
   ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 target_include_directories(preadaptive_mrac_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
 target_link_libraries(preadaptive_mrac_ros PUBLIC preadaptive_mrac_ros_params ${catkin_LIBRARIES})
-add_dependencies(preadaptive_mrac_ros ${PROJECT_NAME}_generate_messages_cpp)
+add_dependencies(preadaptive_mrac_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
 add_executable(plant_sim_node src/nodes/plant_sim_node.cpp)
 target_link_libraries(plant_sim_node preadaptive_mrac_ros)

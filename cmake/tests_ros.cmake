@@ -53,4 +53,9 @@ if(CATKIN_ENABLE_TESTING)
   # Controller and plant SIGKILLed and restarted mid-run (realtime): trim, stale safe commands,
   # recovery, the controller resumes from its saved weights, the run completes.
   add_rostest(test/ros/faults.test DEPENDENCIES plant_sim_node mrac_controller_node)
+  # Issue 11: c_ed changed mid-run (lockstep) through the dynamic_reconfigure client, an invalid
+  # value refused naming the key; the bag holds the change stamped with its step and equals
+  # the CLI run with the new c_ed bit for bit.
+  add_rostest(test/ros/reconfigure.test
+    DEPENDENCIES plant_sim_node mrac_controller_node bag_recorder_node preadapt_sim)
 endif()

@@ -8,6 +8,7 @@
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/robust_preadaptation.hpp"
+#include "preadaptive_mrac/core/tunables.hpp"
 
 namespace preadaptive_mrac {
 
@@ -256,7 +257,20 @@ Attention::Result Attention::decideDown(double e_dot) {
   return Result::kRecovered;
 }
 
+void Attention::setThresholds(double c_e, double c_ed, int confirm_samples, double hysteresis) {
+  if (confirm_samples != confirm_) up_count_ = down_count_ = -1;
+  c_e_ = c_e;
+  c_ed_ = c_ed;
+  confirm_ = confirm_samples;
+  hyst_ = hysteresis;
+  if (primed_) {  // the last sample against the new thresholds: the change is no crossing
+    s_prev_ = abs_e_prev_ - c_e_;
+    d_prev_ = abs_e_prev_ - (c_e_ - hyst_);
+  }
+}
+
 Attention::Result Attention::update(double e, double e_dot) {
+  abs_e_prev_ = std::abs(e);
   const double s = std::abs(e) - c_e_;            // onset threshold
   const double d = std::abs(e) - (c_e_ - hyst_);  // recovery threshold
   if (!primed_) {
@@ -406,6 +420,7 @@ Controller& Controller::operator=(const Controller& o) {
   attention_ = o.attention_;
   net_ = o.net_;
   strategy_ = o.strategy_->clone(&net_);
+  pending_ = o.pending_;
   return *this;
 }
 
@@ -464,6 +479,48 @@ void Controller::startPhase(const Vec& theta_I) {
   strategy_->startExternalPhase();
 }
 
+ControllerTunables ControllerTunables::of(const ControllerConfig& c) {
+  ControllerTunables t;
+  t.c_e = c.c_e;
+  t.c_ed = c.c_ed;
+  t.confirm_samples = c.confirm_samples;
+  t.hysteresis = c.hysteresis;
+  t.gamma = c.gamma;
+  t.gamma_pa = c.gamma_pa;
+  t.projection = c.projection;
+  t.theta_max = c.theta_max;
+  t.projection_epsilon = c.projection_epsilon;
+  t.robust = c.robust;
+  return t;
+}
+
+void ControllerTunables::applyTo(ControllerConfig* c) const {
+  c->c_e = c_e;
+  c->c_ed = c_ed;
+  c->confirm_samples = confirm_samples;
+  c->hysteresis = hysteresis;
+  c->gamma = gamma;
+  c->gamma_pa = gamma_pa;
+  c->projection = projection;
+  c->theta_max = theta_max;
+  c->projection_epsilon = projection_epsilon;
+  c->robust = robust;
+}
+
+void Controller::setTunables(const ControllerTunables& t) {
+  const std::vector<std::string> problems = validateTunables(cfg_, t);
+  if (!problems.empty()) throw ConfigError(problems);
+  pending_ = t;
+}
+
+void Controller::applyTunables(const ControllerTunables& t) {
+  t.applyTo(&cfg_);
+  attention_.setThresholds(cfg_.c_e, cfg_.c_ed, cfg_.confirm_samples, cfg_.hysteresis);
+  if (strategy_->setTunables(cfg_)) attention_.endPhase();
+  // Projection switched on: the estimate starts inside Omega, as at a reset.
+  if (cfg_.projection) clampToBall(&theta_hat_, cfg_.theta_max);
+}
+
 StepOutput Controller::step(const StepInput& in) {
   const Vec& x = *in.x;
   if (strategy_->needsTruth() && in.theta_true == nullptr)
@@ -471,6 +528,11 @@ StepOutput Controller::step(const StepInput& in) {
                                 " needs the true theta at every step");
 
   StepOutput out;
+  if (pending_) {  // a step boundary: queued tunables take effect before this sample
+    applyTunables(*pending_);
+    pending_.reset();
+    out.tunables_applied = true;
+  }
   ev_ = x - x_r_;
   out.e = ev_[out_];
   out.e_dot = vel_.update(out.e);

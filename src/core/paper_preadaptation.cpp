@@ -79,6 +79,14 @@ void PaperPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Event
   ev->learned = true;
 }
 
+bool PaperPreadaptation::setTunables(const ControllerConfig& cfg) {
+  projection_ = cfg.projection;
+  theta_max_ = cfg.theta_max;
+  gamma_pa_ = cfg.gamma_pa;
+  sens_.setGamma(cfg.gamma);
+  return false;
+}
+
 void PaperPreadaptation::startExternalPhase() {
   phase_cost_ = 0.0;
   z_onset_.setZero();

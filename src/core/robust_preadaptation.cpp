@@ -24,13 +24,7 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
       B1r_(plant.B1r),
       bb_(plant.B.squaredNorm()),
       net_(net) {
-  Ld_ = samplesOf(rc_.detect_window, dt_);
-  Lc_ = samplesOf(rc_.chunk, dt_);
-  Lv_ = samplesOf(rc_.verify_time, dt_);
-  Lq_ = samplesOf(rc_.quiet_time, dt_);
-  Ls_ = samplesOf(rc_.settle_time, dt_);
-  Ll_ = rc_.long_window > 0.0 ? std::max(Ld_, samplesOf(rc_.long_window, dt_)) : 0;
-  cap_ = std::max({2 * Ld_, Lv_ + 2 * Ld_, 2 * Ll_}) + 2;
+  sizeWindows();
   const int n = plant.n();
   phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
   th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
@@ -44,6 +38,36 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
   phi_long_.setZero(n);
   net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
   reset();
+}
+
+void RobustPreadaptation::sizeWindows() {
+  Ld_ = samplesOf(rc_.detect_window, dt_);
+  Lc_ = samplesOf(rc_.chunk, dt_);
+  Lv_ = samplesOf(rc_.verify_time, dt_);
+  Lq_ = samplesOf(rc_.quiet_time, dt_);
+  Ls_ = samplesOf(rc_.settle_time, dt_);
+  Ll_ = rc_.long_window > 0.0 ? std::max(Ld_, samplesOf(rc_.long_window, dt_)) : 0;
+  cap_ = std::max({2 * Ld_, Lv_ + 2 * Ld_, 2 * Ll_}) + 2;
+}
+
+bool RobustPreadaptation::setTunables(const ControllerConfig& cfg) {
+  const int ld = Ld_, lc = Lc_, lv = Lv_, ll = Ll_;
+  rc_ = cfg.robust;
+  projection_ = cfg.projection;
+  theta_max_ = cfg.theta_max;
+  sizeWindows();
+  net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
+  const int before = memory().size();
+  memory().trim();
+  if (memory().size() != before) recalled_ = -1;  // indices moved
+  if (Ld_ == ld && Lc_ == lc && Lv_ == lv && Ll_ == ll) return false;
+  // The ring's sums and the detection statistics are per window: start them again.
+  const Eigen::Index n = B_.size();
+  phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
+  th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
+  y_.assign(static_cast<size_t>(cap_), 0.0);
+  reset();
+  return true;
 }
 
 void RobustPreadaptation::reset() {

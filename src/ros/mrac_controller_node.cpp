@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "preadaptive_mrac/io/weights_io.hpp"
+#include "preadaptive_mrac/ros/controller_reconfigure.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
 namespace preadaptive_mrac {
@@ -105,7 +106,11 @@ MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
   status_pub_ = nh_.advertise<AdaptationStatus>("controller/status", q);
   updater_.setHardwareID("mrac_controller");
   updater_.add("controller", this, &MracControllerNode::diagnose);
+  reconf_ = std::make_unique<ControllerReconfigure>(nh_, ros::NodeHandle("~reconfigure"), &ctl_,
+                                                    privateKeyStyle());
 }
+
+MracControllerNode::~MracControllerNode() = default;
 
 void MracControllerNode::fatal(const std::string& what) {
   ROS_FATAL("%s", what.c_str());
@@ -345,6 +350,7 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   cmd_msg_.safe = false;
   cmd_msg_.stale = false;
   cmd_pub_.publish(cmd_msg_);
+  reconf_->afterStep(out, msg.step, msg.t, msg.header.stamp);
 
   if (out.saturated) ++saturated_;
   if (out.event) {
@@ -505,6 +511,8 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("last decision", last_decision_.empty() ? std::string("none") : last_decision_);
   stat.add("episodes", ctl_.network().state().episodes);
   stat.add("plant restarts", plant_restarts_);
+  stat.add("reconfigure changes applied", reconf_->applied());
+  stat.add("reconfigure requests refused", reconf_->refused());
 }
 
 int runMracControllerNode() {

@@ -188,7 +188,9 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
       tree, r,
       {"plant", "controller", "scenario", "weights_in", "weights_out", "save_every_episode",
        "min_command_subscribers", "min_status_subscribers", "start_timeout", "truth_buffer",
-       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period"});
+       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period",
+       // written by the dynamic_reconfigure server (~reconfigure/*), never read
+       "reconfigure"});
 
   std::vector<std::string> problems = r.problems();
   bool run_ok = false;

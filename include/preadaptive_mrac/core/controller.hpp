@@ -87,6 +87,27 @@ struct ControllerConfig {
   void validate(ParamReader& r, int n, const std::string& prefix = "controller") const;
 };
 
+/// \brief The parameters that may change while the controller runs (dynamic_reconfigure):
+/// attention thresholds, adaptation and learning gains, projection and pa_robust's parameters.
+/// Controller::setTunables queues them; they take effect at the start of the next step().
+struct ControllerTunables {
+  double c_e = 0.005;               ///< controller.attention.c_e [rad]
+  double c_ed = 0.02;               ///< controller.attention.c_ed [rad/s]
+  int confirm_samples = 0;          ///< controller.attention.confirm_samples
+  double hysteresis = 0.0;          ///< controller.attention.hysteresis [rad]
+  double gamma = 10.0;              ///< controller.adaptation.gamma
+  double gamma_pa = 10.0;           ///< controller.preadaptation.gamma_pa
+  bool projection = false;          ///< controller.projection.enabled
+  double theta_max = 0.0;           ///< controller.projection.theta_max
+  double projection_epsilon = 0.1;  ///< controller.projection.epsilon
+  RobustConfig robust;              ///< controller.robust.*
+
+  /// \brief The tunables of a configuration.
+  static ControllerTunables of(const ControllerConfig& c);
+  /// \brief Write these values into a configuration.
+  void applyTo(ControllerConfig* c) const;
+};
+
 /// \brief An attention event.
 struct Event {
   enum class Type { kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery, kDecision };
@@ -127,16 +148,17 @@ struct StepInput {
 
 /// \brief Output of one controller step.
 struct StepOutput {
-  double u = 0.0;              ///< elevator command u_bl + u_ad [rad]
-  double u_baseline = 0.0;     ///< -K x
-  double u_adaptive = 0.0;     ///< -theta_hat^T x + k0 r
-  double e = 0.0;              ///< output error [rad]
-  double e_dot = 0.0;          ///< its estimated rate [rad/s]
-  double u_unsaturated = 0.0;  ///< u_baseline + u_adaptive before the actuator limits
-  bool saturated = false;      ///< u was limited (magnitude or rate)
-  Vec x_ref;                   ///< reference-model state at this sample
-  Vec theta_hat;               ///< estimate used for u at this sample (after any reset)
-  std::optional<Event> event;  ///< at most one attention event per sample
+  double u = 0.0;                 ///< elevator command u_bl + u_ad [rad]
+  double u_baseline = 0.0;        ///< -K x
+  double u_adaptive = 0.0;        ///< -theta_hat^T x + k0 r
+  double e = 0.0;                 ///< output error [rad]
+  double e_dot = 0.0;             ///< its estimated rate [rad/s]
+  double u_unsaturated = 0.0;     ///< u_baseline + u_adaptive before the actuator limits
+  bool saturated = false;         ///< u was limited (magnitude or rate)
+  Vec x_ref;                      ///< reference-model state at this sample
+  Vec theta_hat;                  ///< estimate used for u at this sample (after any reset)
+  std::optional<Event> event;     ///< at most one attention event per sample
+  bool tunables_applied = false;  ///< tunables queued by setTunables took effect at this sample
 };
 
 /// \brief Dirty derivative s / (tau s + 1) of e, backward-Euler discretised.
@@ -168,6 +190,9 @@ class Attention {
   enum class Result { kNone, kOnset, kRecovered, kIgnoredOnset, kIgnoredRecovery };
   Attention(double c_e, double c_ed, int confirm_samples = 0, double hysteresis = 0.0)
       : c_e_(c_e), c_ed_(c_ed), confirm_(confirm_samples), hyst_(hysteresis) {}
+  /// \brief New thresholds between two samples. The last sample is re-evaluated against them,
+  /// so the change itself is no crossing; a changed confirm_samples drops pending crossings.
+  void setThresholds(double c_e, double c_ed, int confirm_samples, double hysteresis);
   /// \brief Evaluate one sample of e and its estimated rate.
   Result update(double e, double e_dot);
   bool phaseActive() const { return active_; }
@@ -189,6 +214,7 @@ class Attention {
   double hyst_;
   bool primed_ = false, active_ = false;
   double s_prev_ = 0.0, d_prev_ = 0.0;   // |e| - c_e and |e| - (c_e - h) at the last sample
+  double abs_e_prev_ = 0.0;              // |e| at the last sample (setThresholds)
   int up_count_ = -1, down_count_ = -1;  // samples held since a crossing; -1 when none pending
 };
 
@@ -205,6 +231,8 @@ class SensitivityTracker {
   void accumulate(double dt, const Vec& ev, const Vec& x, const Vec& theta_err);
   /// \brief Pi (2n x 2n) at the given signals; for tests and documentation, not the hot path.
   PiMat pi(const Vec& ev, const Vec& x, const Vec& theta_err) const;
+  /// \brief A new adaptation gain from the next sample on (Controller::setTunables).
+  void setGamma(double gamma) { gamma_ = gamma; }
   double cost() const { return E_; }
   const Vec& grad() const { return g_; }
   const SensMat& S() const { return S_; }
@@ -261,6 +289,14 @@ class Controller {
   /// \brief The command while input is stale: the LQR baseline -K x_last (kBaselineHold) or 0,
   /// within the actuator limits. Adaptation, attention and learning do not run.
   double safeCommand(const Vec& x_last, StalePolicy policy);
+  /// \brief Queue new tunables; they take effect at the start of the next step() (a step
+  /// boundary), which reports it in StepOutput::tunables_applied. Throws ConfigError naming
+  /// each offending key (controller.attention.c_ed, ...) when they do not pass
+  /// ControllerConfig::validate; nothing is queued then. A later call replaces a queued one.
+  void setTunables(const ControllerTunables& t);
+  /// \brief The tunables in effect (not a queued change).
+  ControllerTunables tunables() const { return ControllerTunables::of(cfg_); }
+  bool tunablesPending() const { return pending_.has_value(); }
   /// \brief True in pa_learn_exact and oracle, which need StepInput::theta_true.
   bool needsTruth() const { return strategy_->needsTruth(); }
 
@@ -284,6 +320,8 @@ class Controller {
   Attention attention_;
   PreadaptNetwork net_;
   std::unique_ptr<PreadaptationStrategy> strategy_;
+  std::optional<ControllerTunables> pending_;  // queued by setTunables, applied by step()
+  void applyTunables(const ControllerTunables& t);
 };
 
 }  // namespace preadaptive_mrac

@@ -30,6 +30,7 @@ class PaperPreadaptation : public PreadaptationStrategy {
   double phaseCost() const override { return phase_cost_; }
   const Vec* phaseGradient() const override { return &sens_.grad(); }
   void startExternalPhase() override;
+  bool setTunables(const ControllerConfig& cfg) override;
 
  private:
   bool resets_, learning_, exact_;

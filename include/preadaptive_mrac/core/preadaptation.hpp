@@ -79,6 +79,13 @@ class PreadaptationStrategy {
   virtual double phaseCost() const { return 0.0; }
   /// \brief dE/dtheta_hat_I of the current phase (learning modes; empty otherwise).
   virtual const Vec* phaseGradient() const { return nullptr; }
+  /// \brief New tunables (Controller::setTunables) between two samples; `cfg` is the whole
+  /// configuration with them. Returns true when the strategy had to restart its detection
+  /// (the controller then ends an open phase).
+  virtual bool setTunables(const ControllerConfig& cfg) {
+    (void)cfg;
+    return false;
+  }
   /// \brief Start a phase with theta_hat already set (an external trigger, Controller::startPhase).
   virtual void startExternalPhase() {}
 };

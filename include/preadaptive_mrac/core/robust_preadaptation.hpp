@@ -34,6 +34,9 @@ class RobustPreadaptation : public PreadaptationStrategy {
   void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) override;
   double phaseCost() const override { return phase_cost_; }
   bool refine(Vec* theta_hat) override;
+  /// \brief Gains and thresholds take effect at once; a new detect_window, chunk or verify_time
+  /// re-sizes the data window and restarts identification (returns true), as a reset does.
+  bool setTunables(const ControllerConfig& cfg) override;
 
   /// \brief Mean residual of theta_hat over the last detection window [rad].
   double residual() const { return rho_; }
@@ -54,6 +57,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// Noise standard deviation of one chunk sum [rad s].
   double chunkSigma() const;
   RegimeMemory memory();
+  /// Window lengths in samples and the ring's capacity from rc_.
+  void sizeWindows();
 
   RobustConfig rc_;
   bool projection_;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <memory>
 #include <string>
 
 #include "preadaptive_mrac/AdaptationStatus.h"
@@ -22,6 +23,8 @@
 
 namespace preadaptive_mrac {
 namespace ros1 {
+
+class ControllerReconfigure;
 
 /// \brief Fill an AttentionEvent from a core event (step: the sample it happened at).
 void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg);
@@ -37,6 +40,7 @@ class MracControllerNode {
  public:
   /// \brief Builds the controller (K, P at start-up), loads ~weights_in, advertises.
   MracControllerNode(const ros::NodeHandle& nh, const ControllerNodeParams& params);
+  ~MracControllerNode();
 
   /// \brief Wait for the subscribers, subscribe, spin until shutdown, save ~weights_out.
   /// Returns the process exit code.
@@ -96,6 +100,9 @@ class MracControllerNode {
   std::int64_t decision_events_ = 0;         ///< DECISION events
   std::array<std::int64_t, 5> decisions_{};  ///< decisions (onsets and DECISION) by kind
   std::string last_decision_;                ///< e.g. "fit at t = 45.052 s (score ...)"
+
+  /// dynamic_reconfigure (~reconfigure) and controller/param_change (issue 11).
+  std::unique_ptr<ControllerReconfigure> reconf_;
 
   std::map<std::uint64_t, Vec> truth_;        ///< pa_learn_exact, oracle: theta by step
   std::deque<PlantState::ConstPtr> pending_;  ///< states waiting for their truth

@@ -74,6 +74,7 @@ from .figure_style import (  # noqa: F401
     _decision_markers,
     _decision_text,
     _event_lines,
+    _param_change_lines,
     _first_reset,
     _is_paper_reset,
     _legend,

@@ -200,4 +200,18 @@ def _fill_from_bag(run, acc, path):
         run.episodes = max(run.episodes or 0, int(m.episodes))
     if not acc['attention']:
         run.notes.append('no %s/controller/attention messages: no attention events' % ns)
+    for m, _ in acc.get('param_change', []):
+        run.param_changes.append(
+            {
+                't': float(m.t),
+                'step': int(m.step),
+                'name': m.name,
+                'old_value': m.old_value,
+                'new_value': m.new_value,
+            }
+        )
+        run.notes.append(
+            '%s: %.6g -> %.6g at t = %.6g s (step %d)'
+            % (m.name, m.old_value, m.new_value, m.t, m.step)
+        )
     _rebase_epoch(run)

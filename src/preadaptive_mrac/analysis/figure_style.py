@@ -66,6 +66,47 @@ def _event_lines(ax, run, with_labels=True, lw=1.0):
     return handles
 
 
+PARAM_COLOR = 'tab:purple'
+
+
+def _param_change_lines(ax, run, annotate=True):
+    """Dash-dotted vertical lines at the steps dynamic_reconfigure changes took effect, with
+    'key old -> new' beside them (changes of one step share a line); returns the lines."""
+    by_t = {}
+    for c in run.param_changes:
+        by_t.setdefault(c['t'], []).append(c)
+    lines = []
+    for i, (t, cs) in enumerate(sorted(by_t.items())):
+        lines.append(
+            ax.axvline(
+                t,
+                color=PARAM_COLOR,
+                ls='-.',
+                lw=1.2,
+                zorder=1,
+                label='parameter change' if i == 0 and annotate else None,
+            )
+        )
+        if annotate:
+            txt = '\n'.join(
+                '%s %.4g$\\to$%.4g' % (c['name'].split('.')[-1], c['old_value'], c['new_value'])
+                for c in cs
+            )
+            ax.annotate(
+                txt,
+                xy=(t, 0.0),
+                xycoords=('data', 'axes fraction'),
+                xytext=(2, 2),
+                textcoords='offset points',
+                va='bottom',
+                ha='left',
+                fontsize=8,
+                color=PARAM_COLOR,
+                annotation_clip=True,
+            )
+    return lines
+
+
 def _switch_lines(ax, m, annotate=True):
     for i, s in enumerate(m['switches']):
         ax.axvline(

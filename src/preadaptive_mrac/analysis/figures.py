@@ -10,6 +10,7 @@ from .figure_style import (
     THETA_UNITS,
     _decision_markers,
     _event_lines,
+    _param_change_lines,
     _first_reset,
     _is_paper_reset,
     _legend,
@@ -41,6 +42,7 @@ def plot_alpha(plt, run, m, path, c_e, xlim=None):
     )
     _switch_lines(ax, m)
     _event_lines(ax, run)
+    _param_change_lines(ax, run)
     ax.set_ylabel(r'angle of attack $\alpha$ [rad]')
     ax.set_title(
         "Response of $\\alpha$: run '%s', mode %s (%s)"
@@ -53,6 +55,7 @@ def plot_alpha(plt, run, m, path, c_e, xlim=None):
     ax2.axhline(-c_e, color='0.4', ls='--', lw=0.9)
     _switch_lines(ax2, m, annotate=False)
     _event_lines(ax2, run, with_labels=False)
+    _param_change_lines(ax2, run, annotate=False)
     ign = [
         ev
         for ev in run.events
@@ -106,6 +109,7 @@ def plot_theta(plt, run, m, path, xlim=None):
         )
         _switch_lines(ax, m, annotate=(i == 0))
         _event_lines(ax, run, with_labels=(i == 0))
+        _param_change_lines(ax, run, annotate=(i == 0))
         for ev in run.events:
             if _is_paper_reset(ev):
                 ax.plot(
@@ -167,6 +171,7 @@ def plot_elevator(plt, run, m, path, xlim=None):
         )
     _switch_lines(ax, m)
     _event_lines(ax, run)
+    _param_change_lines(ax, run)
     ax.set_ylabel(r'elevator command $u$ [rad]')
     ax.set_xlabel('time $t$ [s]')
     ax.set_title(

@@ -156,6 +156,7 @@ def run_metrics(run):
             }
             for ev in run.events
         ],
+        'param_changes': [dict(c) for c in run.param_changes],
         'notes': list(run.notes),
     }
 

@@ -27,6 +27,7 @@ TOPICS = {
     'status': ('controller/status', 'AdaptationStatus'),
     'elevator': ('controller/elevator_cmd', 'ElevatorCommand'),
     'attention': ('controller/attention', 'AttentionEvent'),
+    'param_change': ('controller/param_change', 'ParamChange'),  # dynamic_reconfigure
 }
 REQUIRED = ('state', 'status', 'truth')
 WHY = {
@@ -96,6 +97,9 @@ class Run:
         self.t_u = self.u = self.u_bl = self.u_ad = None
         self.u_source = ''
         self.summary = None  # the batch CLI's --json object, for a CSV input
+        # dynamic_reconfigure changes (controller/param_change): dicts t, step, name,
+        # old_value, new_value; drawn as markers on the time plots
+        self.param_changes = []
 
     def describe(self):
         where = os.path.basename(self.source) + (' [%s]' % self.namespace if self.namespace else '')

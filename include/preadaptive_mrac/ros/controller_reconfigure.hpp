@@ -1,0 +1,65 @@
+#pragma once
+/// \file controller_reconfigure.hpp
+/// \brief dynamic_reconfigure of the controller's tunables (cfg/ControllerTuning.cfg) and the
+/// controller/param_change record of every change applied.
+
+#include <dynamic_reconfigure/server.h>
+#include <ros/ros.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "preadaptive_mrac/ControllerTuningConfig.h"
+#include "preadaptive_mrac/ParamChange.h"
+#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/params.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+/// \brief The tunables a reconfigure request asks for.
+ControllerTunables fromReconfigure(const ControllerTuningConfig& c);
+/// \brief The reconfigure values showing `t`.
+void toReconfigure(const ControllerTunables& t, ControllerTuningConfig* c);
+
+/// \brief Serves dynamic_reconfigure for a Controller and records the changes it applies.
+///
+/// A request is checked with the core's validation (validateTunables: the YAML's rules, keys
+/// named in `style`); a refused request is logged (ERROR, one line per problem) and answered
+/// with the values in force, so the client sees the old values kept. An accepted one is queued
+/// in the Controller (Controller::setTunables), which applies it at the start of its next step;
+/// afterStep() then publishes one ParamChange per changed key on `controller/param_change`,
+/// stamped with that step. Callbacks must be serialised with the controller's steps (one
+/// callback queue, one spinner thread), as in mrac_controller_node.
+class ControllerReconfigure {
+ public:
+  /// \param nh namespace of controller/param_change (the node's)
+  /// \param server_nh namespace of the server (`~reconfigure`)
+  ControllerReconfigure(const ros::NodeHandle& nh, const ros::NodeHandle& server_nh,
+                        Controller* controller, const KeyStyle& style);
+
+  /// \brief After each controller step: when `out` says queued tunables took effect, publish
+  /// each changed key stamped with the state's step, t and stamp.
+  void afterStep(const StepOutput& out, std::uint64_t step, double t, const ros::Time& stamp);
+
+  /// \brief Requests refused so far.
+  std::int64_t refused() const { return refused_; }
+  /// \brief Changes applied so far (keys).
+  std::int64_t applied() const { return applied_; }
+
+ private:
+  void callback(ControllerTuningConfig& config, uint32_t level);
+
+  Controller* ctl_;
+  KeyStyle style_;
+  ros::Publisher change_pub_;
+  ControllerTunables in_effect_;  ///< what the controller runs with
+  ControllerTunables accepted_;   ///< the last accepted request (queued or in effect)
+  std::int64_t refused_ = 0, applied_ = 0;
+  boost::recursive_mutex server_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<ControllerTuningConfig>> server_;
+};
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

@@ -1,0 +1,138 @@
+#include "preadaptive_mrac/ros/controller_reconfigure.hpp"
+
+#include "preadaptive_mrac/core/tunables.hpp"
+
+namespace preadaptive_mrac {
+namespace ros1 {
+
+ControllerTunables fromReconfigure(const ControllerTuningConfig& c) {
+  ControllerTunables t;
+  t.c_e = c.c_e;
+  t.c_ed = c.c_ed;
+  t.confirm_samples = c.confirm_samples;
+  t.hysteresis = c.hysteresis;
+  t.gamma = c.gamma;
+  t.gamma_pa = c.gamma_pa;
+  t.projection = c.projection_enabled;
+  t.theta_max = c.theta_max;
+  t.projection_epsilon = c.projection_epsilon;
+  RobustConfig& r = t.robust;
+  r.detect_window = c.robust_detect_window;
+  r.long_window = c.robust_long_window;
+  r.chunk = c.robust_chunk;
+  r.threshold = c.robust_threshold;
+  r.noise_factor = c.robust_noise_factor;
+  r.noise_time = c.robust_noise_time;
+  r.verify_time = c.robust_verify_time;
+  r.margin = c.robust_margin;
+  r.significance = c.robust_significance;
+  r.prior_std = c.robust_prior_std;
+  r.ridge = c.robust_ridge;
+  r.cl_gain = c.robust_cl_gain;
+  r.memory_size = c.robust_memory_size;
+  r.merge_tolerance = c.robust_merge_tolerance;
+  r.settle_time = c.robust_settle_time;
+  r.quiet_time = c.robust_quiet_time;
+  r.use_network = c.robust_use_network;
+  r.network_rate = c.robust_network_rate;
+  return t;
+}
+
+void toReconfigure(const ControllerTunables& t, ControllerTuningConfig* c) {
+  c->c_e = t.c_e;
+  c->c_ed = t.c_ed;
+  c->confirm_samples = t.confirm_samples;
+  c->hysteresis = t.hysteresis;
+  c->gamma = t.gamma;
+  c->gamma_pa = t.gamma_pa;
+  c->projection_enabled = t.projection;
+  c->theta_max = t.theta_max;
+  c->projection_epsilon = t.projection_epsilon;
+  const RobustConfig& r = t.robust;
+  c->robust_detect_window = r.detect_window;
+  c->robust_long_window = r.long_window;
+  c->robust_chunk = r.chunk;
+  c->robust_threshold = r.threshold;
+  c->robust_noise_factor = r.noise_factor;
+  c->robust_noise_time = r.noise_time;
+  c->robust_verify_time = r.verify_time;
+  c->robust_margin = r.margin;
+  c->robust_significance = r.significance;
+  c->robust_prior_std = r.prior_std;
+  c->robust_ridge = r.ridge;
+  c->robust_cl_gain = r.cl_gain;
+  c->robust_memory_size = r.memory_size;
+  c->robust_merge_tolerance = r.merge_tolerance;
+  c->robust_settle_time = r.settle_time;
+  c->robust_quiet_time = r.quiet_time;
+  c->robust_use_network = r.use_network;
+  c->robust_network_rate = r.network_rate;
+}
+
+ControllerReconfigure::ControllerReconfigure(const ros::NodeHandle& nh,
+                                             const ros::NodeHandle& server_nh,
+                                             Controller* controller, const KeyStyle& style)
+    : ctl_(controller), style_(style) {
+  in_effect_ = accepted_ = ctl_->tunables();
+  ros::NodeHandle pub_nh(nh);
+  change_pub_ = pub_nh.advertise<ParamChange>("controller/param_change", 100);
+  server_ = std::make_unique<dynamic_reconfigure::Server<ControllerTuningConfig>>(server_mutex_,
+                                                                                  server_nh);
+  // The server starts from the cfg's defaults (or values left on the parameter server by an
+  // earlier run); show the YAML's values instead, before the first callback.
+  ControllerTuningConfig initial;
+  toReconfigure(in_effect_, &initial);
+  server_->updateConfig(initial);
+  server_->setCallback([this](ControllerTuningConfig& c, uint32_t level) { callback(c, level); });
+}
+
+void ControllerReconfigure::callback(ControllerTuningConfig& config, uint32_t level) {
+  (void)level;
+  const ControllerTunables requested = fromReconfigure(config);
+  const auto changes = diffTunables(accepted_, requested);
+  if (changes.empty()) return;
+  const std::vector<std::string> problems = validateTunables(ctl_->config(), requested, style_);
+  if (!problems.empty()) {
+    ++refused_;
+    ROS_ERROR("reconfigure refused, %zu problem(s); keeping the values in force:", problems.size());
+    for (const auto& p : problems) ROS_ERROR("  %s", p.c_str());
+    toReconfigure(accepted_, &config);  // the answer shows the old values
+    return;
+  }
+  try {
+    ctl_->setTunables(requested);
+  } catch (const std::exception& e) {  // the same validation: not expected
+    ++refused_;
+    ROS_ERROR("reconfigure refused: %s", e.what());
+    toReconfigure(accepted_, &config);
+    return;
+  }
+  accepted_ = requested;
+  for (const auto& c : changes)
+    ROS_INFO("reconfigure: %s %s -> %s (from the next step)",
+             (style_.root + "controller" + style_.separator + c.key).c_str(),
+             formatNumber(c.old_value).c_str(), formatNumber(c.new_value).c_str());
+}
+
+void ControllerReconfigure::afterStep(const StepOutput& out, std::uint64_t step, double t,
+                                      const ros::Time& stamp) {
+  if (!out.tunables_applied) return;
+  const ControllerTunables now = ctl_->tunables();
+  for (const auto& c : diffTunables(in_effect_, now)) {
+    ParamChange m;
+    m.header.stamp = stamp;
+    m.step = step;
+    m.t = t;
+    m.name = "controller." + c.key;
+    m.old_value = c.old_value;
+    m.new_value = c.new_value;
+    change_pub_.publish(m);
+    ++applied_;
+    ROS_INFO("step %llu (t = %.3f s): %s = %s (was %s)", static_cast<unsigned long long>(step), t,
+             m.name.c_str(), formatNumber(c.new_value).c_str(), formatNumber(c.old_value).c_str());
+  }
+  in_effect_ = now;
+}
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac

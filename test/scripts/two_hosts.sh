@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Issue 11: plant (with the master and the recorder) and controller on two "hosts": two network
+# namespaces joined by a veth pair (10.77.0.1/24 and 10.77.0.2/24), ROS_IP / ROS_MASTER_URI set
+# in each, launched with launch/two_machines.launch part:=plant / part:=controller.
+#  1. lockstep scenario 1 (pa_learn) through the link: the bag equals the batch CLI's CSV bit
+#     for bit (bench/bag_vs_cli.py --tol 0: every step once, alpha and theta_hat identical).
+#  2. realtime (test/ros/config/fault_scenario.yaml, 14 s): the controller SIGSTOPped for 200 ms
+#     then SIGCONTed, and later its link down for 300 ms then up: the plant holds trim (WARN
+#     "holding trim", then "commands are back"), the controller goes stale on the link loss
+#     ("no valid state", then "valid state again"), and the run completes (plant report).
+# Needs root (CAP_NET_ADMIN): otherwise exit 77 with the reason. Traffic stays in the
+# namespaces; they are deleted on exit.
+set -uo pipefail
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
+skip() { echo "SKIPPED: two_hosts: $*"; exit 77; }
+[ -f "$BUILD/devel/setup.bash" ] || skip "$BUILD/devel/setup.bash not found (build first)"
+command -v ip >/dev/null || skip "ip (iproute2) not installed"
+[ "$(id -u)" = 0 ] || skip "not root: network namespaces need CAP_NET_ADMIN"
+A=pmrac_a_$$ B=pmrac_b_$$ VA=pmva$$ VB=pmvb$$
+PIDS=()
+WORK=$(mktemp -d /tmp/pmrac_two_hosts.XXXXXX)
+cleanup() {
+  for p in "${PIDS[@]}"; do kill -TERM "$p" 2>/dev/null; done
+  sleep 1
+  for p in "${PIDS[@]}"; do kill -KILL "$p" 2>/dev/null; done
+  ip netns del "$A" 2>/dev/null
+  ip netns del "$B" 2>/dev/null
+  rm -rf "$WORK"
+}
+trap cleanup EXIT
+trap "exit 130" INT TERM
+ip netns add "$A" 2>"$WORK/err" || skip "ip netns add failed: $(cat "$WORK/err")"
+ip netns add "$B" || skip "second namespace refused"
+ip link add "$VA" type veth peer name "$VB" 2>"$WORK/err" || skip "no veth: $(cat "$WORK/err")"
+ip link set "$VA" netns "$A" && ip link set "$VB" netns "$B" || exit 1
+ip -n "$A" addr add 10.77.0.1/24 dev "$VA" && ip -n "$B" addr add 10.77.0.2/24 dev "$VB" || exit 1
+for ns in "$A" "$B"; do ip -n "$ns" link set lo up; done
+ip -n "$A" link set "$VA" up && ip -n "$B" link set "$VB" up || exit 1
+
+set +u
+# shellcheck disable=SC1091
+source "$BUILD/devel/setup.bash"
+set -u
+export ROS_MASTER_URI=http://10.77.0.1:11311 ROS_HOME="$WORK/ros"
+unset ROS_HOSTNAME
+in_a() { ip netns exec "$A" env ROS_IP=10.77.0.1 "$@"; }
+in_b() { ip netns exec "$B" env ROS_IP=10.77.0.2 "$@"; }
+# In the background, as the process itself (exec), so $! is roslaunch's pid: a background
+# subshell of a script ignores SIGINT, so processes are stopped with SIGTERM.
+bg_a() { (exec ip netns exec "$A" env ROS_IP=10.77.0.1 "$@") & }
+bg_b() { (exec ip netns exec "$B" env ROS_IP=10.77.0.2 "$@") & }
+RC=0
+fail() { echo "two_hosts: FAIL: $*"; RC=1; }
+
+bg_a roscore -p 11311 >"$WORK/roscore.log" 2>&1
+PIDS+=($!)
+for _ in $(seq 100); do in_b /usr/bin/python3 /usr/bin/rosparam get /rosdistro >/dev/null 2>&1 && break; sleep 0.2; done
+in_b /usr/bin/python3 /usr/bin/rosparam get /rosdistro >/dev/null 2>&1 || { echo "two_hosts: master unreachable from B"; exit 1; }
+
+# run NAME ARGS...: plant half in A, controller half in B; waits for the plant's launch.
+run() {
+  local name=$1; shift
+  bg_a roslaunch preadaptive_mrac two_machines.launch part:=plant plant_host:=10.77.0.1 \
+    controller_host:=10.77.0.2 "$@" >"$WORK/$name.plant.log" 2>&1
+  local pa=$!; PIDS+=($pa)
+  for _ in $(seq 100); do grep -q "started core service\|process\[plant_sim" "$WORK/$name.plant.log" && break; sleep 0.1; done
+  bg_b roslaunch preadaptive_mrac two_machines.launch part:=controller plant_host:=10.77.0.1 \
+    controller_host:=10.77.0.2 "$@" >"$WORK/$name.controller.log" 2>&1
+  CPID=$!; PIDS+=($CPID)
+  PLANT_LAUNCH=$pa
+}
+# The controller's launch does not end by itself when the plant's run is over.
+stop_controller() {
+  kill -TERM "$CPID" 2>/dev/null
+  timeout 20 tail --pid="$CPID" -f /dev/null
+}
+node_pid() { pgrep -f "__name:=$1" | head -1; }
+
+# 1. lockstep through the link, bag against the CLI.
+echo "== lockstep scenario 1 through the veth link"
+run lockstep clock:=lockstep record:=true bag:="$WORK/lockstep.bag" latency_report:="$WORK/lockstep.json"
+timeout 400 tail --pid="$PLANT_LAUNCH" -f /dev/null
+stop_controller
+grep -q '"completed": true' "$WORK/lockstep.json" 2>/dev/null || fail "lockstep run did not complete ($(tail -3 "$WORK/lockstep.plant.log"))"
+"$BUILD/devel/lib/preadaptive_mrac/preadapt_sim" --scenario 1 --mode pa_learn --csv "$WORK/cli.csv" >/dev/null
+/usr/bin/python3 "$ROOT/bench/bag_vs_cli.py" "$WORK/lockstep.bag" "$WORK/cli.csv" --tol 0 || fail "bag differs from the CLI"
+
+# 2. realtime: controller host stalls, then its link goes down and up.
+echo "== realtime: SIGSTOP 200 ms, link down 300 ms"
+run realtime clock:=realtime scenario_file:="$ROOT/test/ros/config/fault_scenario.yaml" latency_report:="$WORK/realtime.json"
+for _ in $(seq 150); do grep -q "commands are back\|mode pa_learn" "$WORK/realtime.controller.log" && break; sleep 0.1; done
+sleep 3
+CTL=$(node_pid mrac_controller)
+[ -n "$CTL" ] || fail "no controller process"
+kill -STOP "$CTL"; sleep 0.2; kill -CONT "$CTL"
+sleep 2
+ip -n "$B" link set "$VB" down; sleep 0.3; ip -n "$B" link set "$VB" up
+timeout 60 tail --pid="$PLANT_LAUNCH" -f /dev/null
+stop_controller
+P="$WORK/realtime.plant.log" C="$WORK/realtime.controller.log"
+grep -q '"completed": true' "$WORK/realtime.json" 2>/dev/null || fail "realtime run did not complete"
+n=$(grep -c "holding trim (u = 0)" "$P"); [ "$n" -ge 2 ] || fail "plant held trim $n time(s), expected 2 (stall, link)"
+grep -q "commands are back" "$P" || fail "plant never reported commands back"
+grep -q "no valid state on" "$C" || fail "controller never went stale"
+grep -q "valid state again" "$C" || fail "controller never recovered from staleness"
+echo "plant: $(grep -c 'holding trim' "$P") trim episode(s); controller: $(grep -c 'no valid state on' "$C") stale episode(s); report: $(cat "$WORK/realtime.json" 2>/dev/null | cut -c1-200)"
+if [ "$RC" != 0 ]; then
+  for f in "$WORK"/*.log; do echo "---- $f"; grep -E "ERROR|WARN|FATAL|holding|stale|valid state" "$f" | tail -15; done
+fi
+[ "$RC" = 0 ] && echo "two_hosts: PASSED" || echo "two_hosts: FAILED"
+exit "$RC"
