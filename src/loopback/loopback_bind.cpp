@@ -35,8 +35,7 @@ extern "C" int bind(int fd, const sockaddr* addr, socklen_t len) {
         a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
         return real(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
       }
-    } else if (addr->sa_family == AF_INET6 &&
-               len >= static_cast<socklen_t>(sizeof(sockaddr_in6))) {
+    } else if (addr->sa_family == AF_INET6 && len >= static_cast<socklen_t>(sizeof(sockaddr_in6))) {
       sockaddr_in6 a;
       std::memcpy(&a, addr, sizeof a);
       if (std::memcmp(&a.sin6_addr, &in6addr_any, sizeof in6addr_any) == 0) {
