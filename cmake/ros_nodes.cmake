@@ -38,3 +38,10 @@ install(TARGETS preadaptive_mrac_ros_params preadaptive_mrac_ros
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# Issue 11: LD_PRELOAD shim that keeps roscpp's XML-RPC server (which binds 0.0.0.0 whatever
+# ROS_IP says) on loopback in single-machine runs; preloaded by scripts/lib/ros_env.
+add_library(pmrac_loopback_bind SHARED src/loopback/loopback_bind.cpp)
+target_link_libraries(pmrac_loopback_bind ${CMAKE_DL_LIBS})
+set_target_properties(pmrac_loopback_bind PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})

@@ -1,9 +1,12 @@
 /// \file preadapt_sweep.cpp
 /// \brief Many batch runs in parallel: seeds x modes x a grid of settings, one JSON line each.
+/// --shard K/N runs one of N disjoint slices of the same run list (one per machine or cluster
+/// task); --merge combines the slices' outputs into the output of the unsharded sweep.
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -36,6 +39,89 @@ struct Axis {
   std::vector<std::string> values;
 };
 
+struct Shard {
+  std::uint64_t k = 0;  ///< 0-based
+  std::uint64_t n = 1;
+};
+
+Shard parseShard(const std::string& text) {
+  const auto slash = text.find('/');
+  if (slash == std::string::npos || slash == 0 || slash + 1 == text.size())
+    throw cli::UsageError("--shard '" + text + "': expected K/N, e.g. 0/4 (K is 0-based)");
+  Shard sh;
+  sh.k = cli::parseSeed("--shard", text.substr(0, slash));
+  sh.n = cli::parseSeed("--shard", text.substr(slash + 1));
+  if (sh.n < 1) throw cli::UsageError("--shard '" + text + "': N must be >= 1");
+  if (sh.k >= sh.n)
+    throw cli::UsageError("--shard '" + text + "': K must be in 0.." + std::to_string(sh.n - 1) +
+                          " (K is 0-based)");
+  return sh;
+}
+
+/// One run of the list as the merge checks it against a shard's line.
+struct Expected {
+  std::string mode;
+  std::uint64_t seed;
+  std::vector<std::pair<std::string, std::string>> grid;
+};
+
+/// Read the shards' outputs, check that together they hold every run of the list exactly once
+/// (each line's index, mode, seed and grid as the list says) and print the lines in index
+/// order, byte for byte as the shards wrote them. Throws MergeError naming the file and line.
+class MergeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+void mergeShards(const std::vector<std::string>& files, const std::vector<Expected>& expected) {
+  std::vector<std::string> lines(expected.size());
+  std::vector<std::string> where(expected.size());
+  for (const auto& f : files) {
+    std::ifstream in(f);
+    if (!in) throw MergeError(f + ": cannot open");
+    std::string line;
+    size_t no = 0;
+    while (std::getline(in, line)) {
+      ++no;
+      const std::string at = f + ":" + std::to_string(no);
+      if (line.empty()) throw MergeError(at + ": empty line");
+      nlohmann::json j;
+      try {
+        j = nlohmann::json::parse(line);
+      } catch (const std::exception&) {
+        throw MergeError(at + ": not a JSON line of preadapt_sweep (truncated output?)");
+      }
+      if (!j.is_object() || !j.contains("index") || !j["index"].is_number_unsigned())
+        throw MergeError(at + ": no 'index' field");
+      const auto i = j["index"].get<std::uint64_t>();
+      if (i >= expected.size())
+        throw MergeError(at + ": index " + std::to_string(i) + " is outside this sweep's " +
+                         std::to_string(expected.size()) + " runs (other sweep options?)");
+      const Expected& e = expected[i];
+      bool same = j.value("mode", std::string()) == e.mode && j.contains("seed") &&
+                  j["seed"].is_number_unsigned() && j["seed"].get<std::uint64_t>() == e.seed &&
+                  j.contains("grid") && j["grid"].is_object() && j["grid"].size() == e.grid.size();
+      for (const auto& kv : e.grid)
+        same = same && j["grid"].contains(kv.first) && j["grid"][kv.first] == kv.second;
+      if (!same)
+        throw MergeError(at + ": run " + std::to_string(i) +
+                         " has another mode, seed or grid than this sweep's run " +
+                         std::to_string(i) + " (other sweep options?)");
+      if (!lines[i].empty())
+        throw MergeError(at + ": run " + std::to_string(i) + " again (also in " + where[i] + ")");
+      lines[i] = line;
+      where[i] = at;
+    }
+  }
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (lines[i].empty())
+      throw MergeError("run " + std::to_string(i) + " of " + std::to_string(lines.size()) +
+                       " is in none of the " + std::to_string(files.size()) +
+                       " files (a shard missing, failed or cut short?)");
+  for (const auto& l : lines) std::cout << l << '\n';
+  std::cout << std::flush;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -50,7 +136,11 @@ int main(int argc, char** argv) {
         "all cores) and prints one JSON line per run, in a fixed order, each with a \"grid\" "
         "object naming its settings and an \"index\". Exit code 2 on bad input. Example: "
         "preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 --grid "
-        "controller.attention.c_e=0.003,0.005,0.01",
+        "controller.attention.c_e=0.003,0.005,0.01\n\nOn many machines: run the same command "
+        "with --shard K/N for K = 0..N-1 (one process each, anywhere), then the same command "
+        "with --merge and the N outputs: it prints what the unsharded sweep prints (byte for "
+        "byte with --no-wall-time). Exit code 1 when a run fails or the merge finds a run "
+        "missing, repeated or foreign.",
         "preadapt_sweep"};
     cli::RunOptionText text;
     std::string modes_text, seeds_text, jobs_text;
@@ -61,7 +151,26 @@ int main(int argc, char** argv) {
     cli::addText(app, "--seeds", &seeds_text, "network seeds: 1-20 or 1,5,9");
     cli::addTexts(app, "--grid", &grids, "key=v1,v2,... (repeatable; the last axis runs fastest)");
     cli::addText(app, "--jobs", &jobs_text, "threads (default: all cores)");
+    std::string shard_text;
+    std::vector<std::string> merge_files;
+    bool no_wall_time = false;
+    cli::addText(app, "--shard", &shard_text,
+                 "K/N: run only the runs whose index i has i mod N = K; K is 0-based (0..N-1), "
+                 "so --shard 0/4 .. --shard 3/4 run the whole list once; lines keep their "
+                 "index in the whole list");
+    app.add_option("--merge", merge_files,
+                   "FILE...: run nothing; read the outputs of the N shards (any order; give the "
+                   "same sweep options as the shards) and print the unsharded output")
+        ->expected(-1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->type_name("FILE");
+    app.add_flag("--no-wall-time", no_wall_time,
+                 "leave wall_time_s out of each line, so the same sweep gives the same bytes");
     if (!cli::parseCommandLine(app, argc, argv)) return 0;
+    std::optional<Shard> shard;
+    if (!shard_text.empty()) shard = parseShard(shard_text);
+    if (shard && !merge_files.empty())
+      throw cli::UsageError("--shard and --merge: give one of them (--merge reads every shard)");
     if (app.count("--scenario") == 0)
       throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
     cli::finishRunOptions(text, &base);
@@ -120,16 +229,34 @@ int main(int argc, char** argv) {
           jobs_list.push_back(std::move(job));
         }
 
-    std::vector<std::string> lines(jobs_list.size());
-    std::vector<char> ready(jobs_list.size(), 0);
+    if (!merge_files.empty()) {
+      std::vector<Expected> expected;
+      for (const auto& job : jobs_list)
+        expected.push_back({job.run.info.mode, job.run.info.seed, job.grid});
+      try {
+        mergeShards(merge_files, expected);
+      } catch (const MergeError& e) {
+        std::cerr << "preadapt_sweep: error: --merge: " << e.what() << std::endl;
+        return 1;
+      }
+      return 0;
+    }
+    // This shard's runs, by their index in the whole list.
+    std::vector<size_t> mine;
+    for (size_t i = 0; i < jobs_list.size(); ++i)
+      if (!shard || i % shard->n == shard->k) mine.push_back(i);
+
+    std::vector<std::string> lines(mine.size());
+    std::vector<char> ready(mine.size(), 0);
     std::atomic<size_t> next{0};
     std::mutex mu;
     std::condition_variable cv;
     std::string failure;
     auto worker = [&] {
       for (;;) {
-        const size_t i = next.fetch_add(1);
-        if (i >= jobs_list.size()) return;
+        const size_t slot = next.fetch_add(1);
+        if (slot >= mine.size()) return;
+        const size_t i = mine[slot];
         Job& job = jobs_list[i];
         std::string line;
         try {
@@ -142,9 +269,11 @@ int main(int argc, char** argv) {
           out["index"] = i;
           out["grid"] = nlohmann::ordered_json::object();
           for (const auto& kv : job.grid) out["grid"][kv.first] = kv.second;
-          // Named: items() of a temporary would dangle (the summary dies before the loop runs).
-          const nlohmann::ordered_json summary = runSummary(job.run.info, *ctl, res);
-          for (const auto& kv : summary.items()) out[kv.key()] = kv.value();
+          // A named summary: items() of a temporary would refer to it after its end (it
+          // crashed here).
+          const auto summary = runSummary(job.run.info, *ctl, res);
+          for (const auto& kv : summary.items())
+            if (!(no_wall_time && kv.key() == "wall_time_s")) out[kv.key()] = kv.value();
           line = out.dump();
         } catch (const std::exception& e) {
           std::lock_guard<std::mutex> lk(mu);
@@ -152,17 +281,17 @@ int main(int argc, char** argv) {
         }
         {
           std::lock_guard<std::mutex> lk(mu);
-          lines[i] = std::move(line);
-          ready[i] = 1;
+          lines[slot] = std::move(line);
+          ready[slot] = 1;
         }
         cv.notify_all();
       }
     };
     std::vector<std::thread> pool;
-    const unsigned n_threads = std::min<unsigned>(jobs, static_cast<unsigned>(jobs_list.size()));
+    const unsigned n_threads = std::min<unsigned>(jobs, static_cast<unsigned>(mine.size()));
     for (unsigned t = 0; t < n_threads; ++t) pool.emplace_back(worker);
     // Print in index order as runs complete, so output streams and stays deterministic.
-    for (size_t i = 0; i < jobs_list.size(); ++i) {
+    for (size_t i = 0; i < mine.size(); ++i) {
       std::unique_lock<std::mutex> lk(mu);
       cv.wait(lk, [&] { return ready[i] != 0; });
       if (!lines[i].empty()) std::cout << lines[i] << '\n' << std::flush;
