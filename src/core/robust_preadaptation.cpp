@@ -247,6 +247,7 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   last_trigger_k_ = k_;
   regime_fit_ = false;
   verifying_ = true;
+  first_move_ = true;
   verify_end_k_ = k_ + Lv_;
   next_decision_k_ = k_ + Lc_;
   quiet_ = 0;
@@ -388,6 +389,26 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   } else {
     fitted = base;
   }
+  // Minimum change along the data. What the post-change data determines best is the mean
+  // mismatch, y_tot - theta^T phi_tot, yet early on its noise (that of two end samples over a
+  // few ms) is tens of mrad of elevator: a candidate that fits the data no worse than noise
+  // explains, or the fit itself, can over-compensate, a spike of the elevator. So while the
+  // decisions are re-made, theta^T phi_tot moves from keeping towards the data only: the first
+  // move no further than the data proves (the near end of its z-interval), later ones no
+  // further than its mean; never the other way. The other directions keep what the candidate
+  // and the fit say. The last decision, on verify_time of data, sets the estimate unclipped,
+  // so the regime fit does not start from the clipped one.
+  const double pp = phi_tot.squaredNorm();
+  if (kind != Event::Decision::kKeep && pp > 0.0 && k_ < verify_end_k_) {
+    const double vk = theta_keep_.dot(phi_tot);
+    const double sgn = y_tot >= vk ? 1.0 : -1.0;
+    const double kappa = first_move_ ? z : 0.0;
+    const double reach = std::max(0.0, sgn * (y_tot - vk) - kappa * sigma);
+    const double move = sgn * (fitted.dot(phi_tot) - vk);
+    const double target = std::min(std::max(move, 0.0), reach);
+    if (target != move) fitted += sgn * (target - move) / pp * phi_tot;
+  }
+  if (kind != Event::Decision::kKeep) first_move_ = false;
   recalled_ = kind == Event::Decision::kMemory ? chosen : -1;
   if (kind != Event::Decision::kKeep) {
     *theta_hat = fitted;

@@ -270,3 +270,39 @@ TEST(Robust, LongWindowCatchesASmallSlowMismatchInNoise) {
   EXPECT_LT(firstOnsetAfter(0.2), 1.0);
   EXPECT_GT(firstOnsetAfter(0.0), 5.0);
 }
+
+TEST(Robust, FirstMoveOnNoisyDataDoesNotOverCompensate) {
+  // Family seed 6, scenario 3 (a development scenario), 0.1 mrad noise, up to 30 s: at 23.56 s
+  // the plant enters a new regime; with small regimes the oracle's largest elevator is the
+  // start-up transient (0.078 rad). Deciding on one noisy 5 ms chunk, the network's prediction
+  // (within the chunk's noise of the data, 30 mrad) over-compensated along the steady state:
+  // the elevator jumped to 0.105 rad, 1.36x the oracle's. Moving no further than the data
+  // proves keeps it within 1.25x; the switch is still corrected within the verification.
+  RunConfig cfg = robustConfig();
+  cfg.scenario = recurringScenario(FamilySpec(), 6, 3);
+  cfg.scenario.theta.resize(3);
+  cfg.scenario.theta.back().until = 30.0;
+  cfg.scenario.reference = {{30.0, 0.1}};
+  cfg.plant.noise.std = vec3(0.0, 1e-4, 1e-4);
+  cfg.plant.noise.seed = 6ULL * 1000003ULL + 3ULL;
+  const double t_switch = cfg.scenario.theta[1].until;
+  ASSERT_NEAR(t_switch, 23.556, 1e-3);
+  auto runMode = [&](Mode mode) {
+    RunConfig c = cfg;
+    c.controller.mode = mode;
+    Controller ctl(c.plant, c.controller);
+    return run(c, &ctl);
+  };
+  const SimResult robust = runMode(Mode::kPaRobust);
+  const SimResult oracle = runMode(Mode::kOracle);
+  EXPECT_LE(robust.metrics.max_abs_u, 1.25 * oracle.metrics.max_abs_u)
+      << robust.metrics.max_abs_u << " against the oracle's " << oracle.metrics.max_abs_u;
+  // Not by standing still: theta_hat is set within the verification time after the switch.
+  bool moved = false;
+  for (const Event& ev : robust.events)
+    moved = moved || (ev.reset && ev.t > t_switch && ev.t < t_switch + 0.06);
+  EXPECT_TRUE(moved);
+  // And the error of the new regime's window stays a small fraction of rac's.
+  const SimResult rac = runMode(Mode::kRac);
+  EXPECT_LT(robust.metrics.windows[2].peak_abs_e, 0.5 * rac.metrics.windows[2].peak_abs_e);
+}

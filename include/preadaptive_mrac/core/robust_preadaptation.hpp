@@ -88,6 +88,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   std::int64_t last_trigger_k_ = -1000000000;
   // Phase.
   bool verifying_ = false;
+  bool first_move_ = false;  ///< no decision since the onset has moved theta_hat yet
   std::int64_t post_start_k_ = 0, verify_end_k_ = 0, next_decision_k_ = 0, regime_start_k_ = 0;
   int quiet_ = 0;
   Vec theta_keep_, theta_net_;
