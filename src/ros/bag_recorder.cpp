@@ -24,9 +24,8 @@ std::string dateSuffix() {
 
 }  // namespace
 
-BagRecorder::BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params)
-    : nh_(nh), params_(params), progress_every_(params.progress_every) {
-  progress_pub_ = ros::NodeHandle("~").advertise<RecorderProgress>("progress", 100);
+BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params)
+    : ctx_(ctx), nh_(ctx.nh()), params_(params), progress_every_(params.progress_every) {
   base_ =
       params.output.empty() ? params.output_prefix + "_" + dateSuffix() + ".bag" : params.output;
   const std::filesystem::path dir = std::filesystem::path(base_).parent_path();
@@ -48,6 +47,10 @@ BagRecorder::BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& par
             }),
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   }
+  // Advertised last: a plant that sees this publisher knows every subscription above exists
+  // (in a nodelet manager, where subscribers in one process share one connection and cannot be
+  // counted, that is how the plant knows the recorder is ready before step 0).
+  progress_pub_ = ctx.pnh().advertise<RecorderProgress>("progress", 100);
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
 }
 
@@ -142,22 +145,23 @@ void BagRecorder::reportProgress(const std::string& topic, const topic_tools::Sh
   progress_pub_.publish(p);
 }
 
-int BagRecorder::run() {
-  // One thread: each callback writes its message (the bag buffers chunks in memory).
-  ros::spin();
+BagRecorder::~BagRecorder() { close(); }
+
+void BagRecorder::close() {
+  if (closed_) return;
+  closed_ = true;
   subs_.clear();
   closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
-  printAfterShutdown(
+  ctx_.printFinal(
       "closed " + path_ +
       (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +
       "; messages:" + summary);
-  return 0;
 }
 
-int runBagRecorderNode() {
-  ros::NodeHandle pnh("~");
+std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx) {
+  ros::NodeHandle pnh = ctx.pnh();
   BagRecorderParams p;
   std::vector<std::string> problems;
   XmlRpc::XmlRpcValue v;
@@ -195,16 +199,27 @@ int runBagRecorderNode() {
   if (p.output.empty() && p.output_prefix.empty())
     problems.push_back(pnh.resolveName("output") + ": set ~output or ~output_prefix");
   if (!problems.empty()) {
-    logConfigProblems(problems);
-    return kExitConfigError;
+    ctx.logConfigProblems(problems);
+    ctx.end(kExitConfigError);
+    return nullptr;
   }
   try {
-    BagRecorder r(ros::NodeHandle(), p);
-    return r.run();
+    return std::make_unique<BagRecorder>(ctx, p);
   } catch (const std::exception& e) {
-    ROS_FATAL("cannot record: %s", e.what());
-    return kExitRuntimeError;
+    ROS_FATAL("%s: cannot record: %s", ctx.name().c_str(), e.what());
+    ctx.end(kExitRuntimeError);
+    return nullptr;
   }
+}
+
+int runBagRecorderNode() {
+  const NodeContext ctx = NodeContext::forProcess();
+  std::unique_ptr<BagRecorder> recorder = makeBagRecorder(ctx);
+  if (!recorder) return processExitCode();
+  // One thread: each callback writes its message (the bag buffers chunks in memory).
+  ros::spin();
+  recorder->close();
+  return processExitCode();
 }
 
 }  // namespace ros1

@@ -12,8 +12,11 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "preadaptive_mrac/ros/node_context.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -44,9 +47,14 @@ struct BagRecorderParams {
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
-  BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params);
-  /// \brief Spin until shutdown, then close the bag. Returns 0.
-  int run();
+  /// Callbacks run wherever ctx.nh()'s queue is served (one at a time: a single-threaded
+  /// spinner, or a nodelet's single-threaded queue).
+  BagRecorder(const NodeContext& ctx, const BagRecorderParams& params);
+  /// \brief close().
+  ~BagRecorder();
+  /// \brief Unsubscribe, close the bag (renaming `.active` away) and print what it holds.
+  /// Idempotent.
+  void close();
   /// \brief The bag being written (without the `.active` suffix it carries while open).
   const std::string& path() const { return path_; }
 
@@ -64,8 +72,10 @@ class BagRecorder {
   /// \brief Whether the split size or duration is reached (then the next bag is opened).
   bool splitDue() const;
 
+  NodeContext ctx_;
   ros::NodeHandle nh_;
   BagRecorderParams params_;
+  bool closed_ = false;
   std::string single_;  ///< the bag's path when not splitting (~output as given)
   std::string base_;    ///< path of the split series, without `.bag`
   std::string path_;    ///< the bag being written (final name, without `.active`)
@@ -80,7 +90,11 @@ class BagRecorder {
   std::vector<std::uint8_t> buf_;
 };
 
-/// \brief main() after ros::init(): read the parameters, record until shutdown.
+/// \brief Read ~ (every problem at once: ROS_FATAL each, ctx.end(kExitConfigError), nullptr)
+/// and open the bag (failure: ctx.end(kExitRuntimeError), nullptr). Node and nodelet.
+std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx);
+
+/// \brief main() after ros::init(): makeBagRecorder, spin until shutdown, close the bag.
 int runBagRecorderNode();
 
 }  // namespace ros1
