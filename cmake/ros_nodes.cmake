@@ -5,7 +5,8 @@
 # ROS-free parts of the glue (parameter reading, latency statistics): tested without a master.
 add_library(preadaptive_mrac_ros_params
   src/ros/node_params.cpp
-  src/ros/latency_stats.cpp)
+  src/ros/latency_stats.cpp
+  src/ros/tick_source.cpp)
 target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)
 
 add_library(preadaptive_mrac_ros

@@ -110,6 +110,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
   p.linger = r.getBool("linger", p.linger);
+  p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
+  p.cpu_affinity = readCount(r, "cpu_affinity", p.cpu_affinity, -1, 1023);
   rejectUnknownTopLevel(tree, r,
                         {"plant",
                          "controller",
@@ -133,6 +135,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                          "queue_size",
                          "recorder_progress_topic",
                          "max_recorder_lag",
+                         "rt_priority",
+                         "cpu_affinity",
                          "cmd_timeout",
                          "diagnostic_period",
                          "linger"});

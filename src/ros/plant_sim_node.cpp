@@ -5,10 +5,8 @@
 #include <rosgraph_msgs/Clock.h>
 
 #include <boost/make_shared.hpp>
-#include <chrono>
 #include <cmath>
 #include <fstream>
-#include <thread>
 
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
@@ -68,6 +66,8 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
                       ros::TransportHints().tcpNoDelay());
   }
   latency_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
+  if (params_.clock == ClockMode::kRealtime)
+    tick_late_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
   if (params_.clock == ClockMode::kLockstep)
     publish_wall_.assign(static_cast<size_t>(sim_.totalSteps()), 0.0);
   // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0).
@@ -376,21 +376,25 @@ int PlantSimNode::runRealtime() {
   ros::AsyncSpinner spinner(1, &queue_);
   spinner.start();
   if (!waitForSubscribers()) return kExitRuntimeError;
-  using Clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(1.0 / params_.rate));
+  // The tick thread (this one): optional SCHED_FIFO priority and CPU affinity; a refusal is a
+  // warning and normal scheduling.
+  const SchedulingResult sched = applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity);
+  if (!sched.warnings.empty()) ROS_WARN("%s", sched.warnings.c_str());
+  scheduling_ = sched.describe();
+  // Absolute deadlines (clock_nanosleep TIMER_ABSTIME): a late tick does not shift the later
+  // ones, so 60 s of ticks take 60 s.
+  TickSource ticks(1.0 / params_.rate);
   wall_start_ = wallNow();
-  auto next = Clock::now();
+  ticks.start();
   publishSample(ros::Time(ros::WallTime::now().toSec()));
   // A controller that subscribed and then died (or never answers) would leave the plant
   // holding trim through the whole scenario: give up unless one valid command arrives.
   const double first_cmd_deadline =
       params_.start_timeout > 0.0 ? wall_start_ + params_.start_timeout : 0.0;
   while (ctx_.ok()) {
-    next += period;
-    std::this_thread::sleep_until(next);
+    tick_late_us_.push_back(1e6 * ticks.waitNext());
     // Behind schedule the ticks run back to back until the simulation has caught up.
-    if (Clock::now() - next > period) ++late_ticks_;
+    if (ticks.late()) ++late_ticks_;
     double u = 0.0;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -522,6 +526,8 @@ RunReport PlantSimNode::report() const {
   r.resent_states = resent_;
   r.recorder_waits = recorder_waits_;
   r.latency = summarizeLatency(latency_us_);
+  r.scheduling = scheduling_;
+  r.tick_late = summarizeLatency(tick_late_us_);
   return r;
 }
 

@@ -56,6 +56,12 @@ struct PlantNodeParams {
   /// down, instead of exiting 0. Lets a launch file mark the plant required (a failing plant
   /// ends the launch) where its normal end must not (compare.launch: two plants).
   bool linger = false;
+  /// ~rt_priority: realtime only: run the tick thread under SCHED_FIFO at this priority
+  /// [1, 99]; 0 = normal scheduling. Without the right (CAP_SYS_NICE, rtprio limit) the plant
+  /// warns once and keeps normal scheduling.
+  int rt_priority = 0;
+  /// ~cpu_affinity: realtime only: pin the tick thread to this CPU [0, 1023]; -1 = any CPU.
+  int cpu_affinity = -1;
 };
 
 /// \brief Everything mrac_controller_node reads from `~`.

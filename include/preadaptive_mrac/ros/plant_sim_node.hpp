@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "preadaptive_mrac/ElevatorCommand.h"
@@ -21,6 +22,7 @@
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
 #include "preadaptive_mrac/ros/rate_meter.hpp"
+#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -107,6 +109,8 @@ class PlantSimNode {
   RateMeter step_rate_, cmd_rate_;  ///< wall-clock rates for the diagnostics
   std::int64_t stale_steps_ = 0, late_ticks_ = 0, resent_ = 0, recorder_waits_ = 0;
   std::vector<double> latency_us_;
+  std::vector<double> tick_late_us_;  ///< realtime: wake-up after each tick's deadline [us]
+  std::string scheduling_;            ///< realtime: the tick thread's scheduling
   std::vector<double> publish_wall_;  ///< lockstep: wall time [s] state k was published
   double wall_start_ = 0.0, wall_end_ = 0.0;
   bool completed_ = false;
