@@ -8,6 +8,7 @@
 
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
+#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -208,6 +209,20 @@ void MracControllerNode::saveWeights(const char* why, bool at_end) {
 
 void MracControllerNode::stateCallback(const PlantState::ConstPtr& msg) {
   if (failed_) return;
+  if (params_.rt_priority > 0 || params_.cpu_affinity >= 0) {
+    // Whichever thread runs this callback (a nodelet's callbacks may move between the
+    // manager's worker threads) gets ~rt_priority / ~cpu_affinity, once.
+    thread_local bool scheduled = false;
+    if (!scheduled) {
+      scheduled = true;
+      const SchedulingResult r = applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity);
+      if (!r.warnings.empty()) {
+        ROS_WARN("%s", r.warnings.c_str());
+      } else {
+        ROS_INFO("state callback thread: %s", r.describe().c_str());
+      }
+    }
+  }
   ++states_received_;
   if (!ctl_.needsTruth()) {
     process(*msg, nullptr);

@@ -178,12 +178,14 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   requireRange(r, "stale_timeout", p.stale_timeout, 0.0, 1e6, true);
   p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
+  p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
+  p.cpu_affinity = readCount(r, "cpu_affinity", p.cpu_affinity, -1, 1023);
   // (~stale_policy was read above but missing here, so setting it was refused as unknown.)
-  rejectUnknownTopLevel(
-      tree, r,
-      {"plant", "controller", "scenario", "weights_in", "weights_out", "save_every_episode",
-       "min_command_subscribers", "min_status_subscribers", "start_timeout", "truth_buffer",
-       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period"});
+  rejectUnknownTopLevel(tree, r,
+                        {"plant", "controller", "scenario", "weights_in", "weights_out",
+                         "save_every_episode", "min_command_subscribers", "min_status_subscribers",
+                         "start_timeout", "truth_buffer", "queue_size", "stale_policy",
+                         "stale_timeout", "diagnostic_period", "rt_priority", "cpu_affinity"});
 
   std::vector<std::string> problems = r.problems();
   bool run_ok = false;

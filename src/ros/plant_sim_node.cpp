@@ -373,8 +373,6 @@ void PlantSimNode::linger() {
 }
 
 int PlantSimNode::runRealtime() {
-  ros::AsyncSpinner spinner(1, &queue_);
-  spinner.start();
   if (!waitForSubscribers()) return kExitRuntimeError;
   // The tick thread (this one): optional SCHED_FIFO priority and CPU affinity; a refusal is a
   // warning and normal scheduling.
@@ -392,6 +390,18 @@ int PlantSimNode::runRealtime() {
   const double first_cmd_deadline =
       params_.start_timeout > 0.0 ? wall_start_ + params_.start_timeout : 0.0;
   while (ctx_.ok()) {
+    // This thread takes the commands itself (no spinner thread in between) until the answer
+    // to the current step is in or the tick is nearly due (kept 50 us for the wake-up).
+    const std::int64_t serve_until = ticks.nextDeadlineNs() - 50000;
+    while (ctx_.ok()) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (have_cmd_ && cmd_step_ == static_cast<std::uint64_t>(sim_.step())) break;
+      }
+      const std::int64_t left = serve_until - monotonicNs();
+      if (left <= 0) break;
+      queue_.callAvailable(ros::WallDuration(static_cast<double>(left) * 1e-9));
+    }
     tick_late_us_.push_back(1e6 * ticks.waitNext());
     // Behind schedule the ticks run back to back until the simulation has caught up.
     if (ticks.late()) ++late_ticks_;
@@ -438,12 +448,8 @@ int PlantSimNode::runRealtime() {
     gave_up = !have_cmd_ && ctx_.ok() && !sim_.done();
   }
   finish(sim_.done());
-  if (gave_up) {
-    spinner.stop();
-    return kExitRuntimeError;
-  }
+  if (gave_up) return kExitRuntimeError;
   linger();
-  spinner.stop();
   return 0;
 }
 

@@ -84,6 +84,11 @@ struct ControllerNodeParams {
   /// does not adapt; (0, 1e6].
   double stale_timeout = 0.05;
   double diagnostic_period = 1.0;  ///< ~diagnostic_period: read by diagnostic_updater [s]
+  /// ~rt_priority: SCHED_FIFO priority [1, 99] of each thread that runs the state callback
+  /// (the spinning thread; in a nodelet manager its worker threads); 0 = normal scheduling.
+  /// Refused (no CAP_SYS_NICE): a warning, normal scheduling.
+  int rt_priority = 0;
+  int cpu_affinity = -1;  ///< ~cpu_affinity: pin those threads to this CPU; -1 = any
 };
 
 /// \brief Read and validate plant_sim_node's private parameters. Throws ConfigError listing

@@ -30,6 +30,8 @@ class TickSource {
   std::int64_t ticks() const { return ticks_; }
   /// \brief Deadline of the last tick waited for [s, CLOCK_MONOTONIC].
   double deadline() const;
+  /// \brief Deadline of the next tick [ns, CLOCK_MONOTONIC].
+  std::int64_t nextDeadlineNs() const { return start_ns_ + (ticks_ + 1) * period_ns_; }
   double period() const { return period_s_; }
 
  private:
