@@ -145,9 +145,9 @@ void BagRecorder::reportProgress(const std::string& topic, const topic_tools::Sh
   progress_pub_.publish(p);
 }
 
-BagRecorder::~BagRecorder() { close(); }
+BagRecorder::~BagRecorder() { finish(); }
 
-void BagRecorder::close() {
+void BagRecorder::finish() {
   if (closed_) return;
   closed_ = true;
   subs_.clear();
@@ -213,13 +213,8 @@ std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx) {
 }
 
 int runBagRecorderNode() {
-  const NodeContext ctx = NodeContext::forProcess();
-  std::unique_ptr<BagRecorder> recorder = makeBagRecorder(ctx);
-  if (!recorder) return processExitCode();
   // One thread: each callback writes its message (the bag buffers chunks in memory).
-  ros::spin();
-  recorder->close();
-  return processExitCode();
+  return spinProcessNode(makeBagRecorder);
 }
 
 }  // namespace ros1

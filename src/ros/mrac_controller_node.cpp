@@ -542,14 +542,7 @@ std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ct
   }
 }
 
-int runMracControllerNode() {
-  const NodeContext ctx = NodeContext::forProcess();
-  std::unique_ptr<MracControllerNode> node = makeMracControllerNode(ctx);
-  if (!node) return processExitCode();
-  ros::spin();
-  node->finish();
-  return processExitCode();
-}
+int runMracControllerNode() { return spinProcessNode(makeMracControllerNode); }
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

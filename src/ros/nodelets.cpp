@@ -68,11 +68,14 @@ class PlantSimNodelet : public ContextNodelet {
   std::atomic<bool> unloading_{false};
 };
 
-/// \brief MracControllerNode: callbacks on the nodelet's single-threaded queue (state, truth
-/// and the staleness timer never run at the same time); weights saved on unload.
-class MracControllerNodelet : public ContextNodelet {
+/// \brief A node class whose callbacks do all the work (controller, recorder, run monitor):
+/// built by `kMake` in onInit() from the nodelet's context, finish()ed on unload (the
+/// controller saves its weights, the recorder closes its bag). Its callbacks run on the
+/// nodelet's single-threaded queue, one at a time, as in a single-threaded process.
+template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&)>
+class CallbackNodelet : public ContextNodelet {
  public:
-  ~MracControllerNodelet() override {
+  ~CallbackNodelet() override {
     if (ctx_) ctx_->stop();
     if (node_) node_->finish();
   }
@@ -80,39 +83,17 @@ class MracControllerNodelet : public ContextNodelet {
  private:
   void onInit() override {
     ctx_ = makeContext();
-    node_ = makeMracControllerNode(*ctx_);
+    node_ = kMake(*ctx_);
   }
 
   std::optional<NodeContext> ctx_;
-  std::unique_ptr<MracControllerNode> node_;
+  std::unique_ptr<Node> node_;
 };
 
-/// \brief BagRecorder: the bag is closed on unload (and so when the manager ends).
-class BagRecorderNodelet : public ContextNodelet {
- public:
-  ~BagRecorderNodelet() override { recorder_.reset(); }
-
- private:
-  void onInit() override {
-    ctx_ = makeContext();
-    recorder_ = makeBagRecorder(*ctx_);
-  }
-
-  std::optional<NodeContext> ctx_;
-  std::unique_ptr<BagRecorder> recorder_;
-};
-
-/// \brief RunMonitor: with `--required`, ends the manager when every plant has finished.
-class RunMonitorNodelet : public ContextNodelet {
- private:
-  void onInit() override {
-    ctx_ = makeContext();
-    monitor_ = makeRunMonitor(*ctx_);
-  }
-
-  std::optional<NodeContext> ctx_;
-  std::unique_ptr<RunMonitor> monitor_;
-};
+using MracControllerNodelet = CallbackNodelet<MracControllerNode, makeMracControllerNode>;
+using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder>;
+/// With the required flag it ends the manager when every plant has finished.
+using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor>;
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

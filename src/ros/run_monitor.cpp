@@ -76,13 +76,12 @@ std::unique_ptr<RunMonitor> makeRunMonitor(const NodeContext& ctx) {
   return std::make_unique<RunMonitor>(ctx, topics);
 }
 
-int runRunMonitorNode() {
-  const NodeContext ctx = NodeContext::forProcess();
-  std::unique_ptr<RunMonitor> monitor = makeRunMonitor(ctx);
-  if (!monitor) return processExitCode();
-  ros::spin();
-  return processExitCode();
+void RunMonitor::finish() {
+  timer_.stop();
+  for (auto& w : watches_) w.sub.shutdown();
 }
+
+int runRunMonitorNode() { return spinProcessNode(makeRunMonitor); }
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

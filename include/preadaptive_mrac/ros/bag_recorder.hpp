@@ -50,11 +50,11 @@ class BagRecorder {
   /// Callbacks run wherever ctx.nh()'s queue is served (one at a time: a single-threaded
   /// spinner, or a nodelet's single-threaded queue).
   BagRecorder(const NodeContext& ctx, const BagRecorderParams& params);
-  /// \brief close().
+  /// \brief finish().
   ~BagRecorder();
   /// \brief Unsubscribe, close the bag (renaming `.active` away) and print what it holds.
   /// Idempotent.
-  void close();
+  void finish();
   /// \brief The bag being written (without the `.active` suffix it carries while open).
   const std::string& path() const { return path_; }
 

@@ -87,5 +87,19 @@ bool readNodeParams(const NodeContext& ctx, Reader read, Params* out) {
   return false;
 }
 
+/// \brief main() (after ros::init()) of a node whose callbacks do all the work: build it with
+/// `make` (nullptr when it refused to start), spin until its run ends or shutdown, then
+/// finish() it (save, close, report). Returns the process's exit code.
+template <class Node>
+int spinProcessNode(std::unique_ptr<Node> (*make)(const NodeContext&)) {
+  const NodeContext ctx = NodeContext::forProcess();
+  std::unique_ptr<Node> node = make(ctx);
+  if (node) {
+    ros::spin();
+    node->finish();
+  }
+  return processExitCode();
+}
+
 }  // namespace ros1
 }  // namespace preadaptive_mrac

@@ -24,6 +24,8 @@ class RunMonitor {
   /// (ctx.end) with 0 when every plant finished, kExitRuntimeError when a plant left before
   /// its last step; checked every 10 ms on ctx.nh()'s queue.
   RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics);
+  /// \brief Stop watching.
+  void finish();
 
  private:
   void check();
