@@ -211,12 +211,29 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
     {
       std::lock_guard<std::mutex> l(rec.m);
       done = rec.sized && rec.total > 0 && rec.status_seen[rec.total - 1] > 0 &&
-             rec.cmd_seen[rec.total - 1] > 0 && rec.state_seen[rec.total - 1] > 0;
+             rec.cmd_seen[rec.total - 1] > 0 && rec.state_seen[rec.total - 1] > 0 &&
+             rec.truth_count >= static_cast<std::int64_t>(rec.total);
     }
     if (done) break;
     ros::WallDuration(0.05).sleep();
   }
-  ASSERT_TRUE(done) << "no state, command and status for the last step within " << timeout_ << " s";
+  ASSERT_TRUE(done) << "no state, command, status and truth for the last step within " << timeout_
+                    << " s";
+  // Attention events have a connection of their own too and their number is not known here:
+  // take them until none has arrived for 0.5 s (bounded by the same deadline).
+  std::size_t events_seen = 0;
+  ros::WallTime quiet_since = ros::WallTime::now();
+  while (ros::ok() && ros::WallTime::now() < deadline &&
+         (ros::WallTime::now() - quiet_since).toSec() < 0.5) {
+    {
+      std::lock_guard<std::mutex> l(rec.m);
+      if (rec.events.size() != events_seen) {
+        events_seen = rec.events.size();
+        quiet_since = ros::WallTime::now();
+      }
+    }
+    ros::WallDuration(0.05).sleep();
+  }
   spinner.stop();
 
   // --- the batch CLI, same scenario, mode, seed and dt
