@@ -56,4 +56,8 @@ if(CATKIN_ENABLE_TESTING)
   # Controller and plant SIGKILLed and restarted mid-run (realtime): trim, stale safe commands,
   # recovery, the controller resumes from its saved weights, the run completes.
   add_rostest(test/ros/faults.test DEPENDENCIES plant_sim_node mrac_controller_node)
+  # The same in lockstep: the plant restarted from step 0; the controller killed after a
+  # learning episode, the plant waiting (repeating its state) until the restarted controller
+  # answers; the run completes with every step answered.
+  add_rostest(test/ros/faults_lockstep.test DEPENDENCIES plant_sim_node mrac_controller_node)
 endif()
