@@ -46,30 +46,35 @@ echo "# work dir $WORK; load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 # roslaunch exits 0 even when a node died with an error: launch_checked tells (and names the
 # refused keys), and checks each plant's report says the run completed.
 checked() { "$ROOT/scripts/lib/launch_checked" --quiet "$@"; }
+# timed KIND SHAPE REP REPORTS -- LAUNCH_CHECKED_ARGS...: one run, a line in $RESULTS (the load
+# before it, roslaunch's total wall time, the plant reports, comma-separated).
+timed() {
+  local kind=$1 shape=$2 rep=$3 reports=$4 l t0
+  shift 5
+  l=$(load1)
+  t0=$(now)
+  checked "$@"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$kind" "$shape" "$rep" "$l" "$(echo "$(now) - $t0" | bc)" \
+    "$reports" >>"$RESULTS"
+}
 
 for rep in $(seq 1 "$REPS"); do
   for shape in $SHAPES; do
     d="$WORK/$shape.$rep"
     mkdir -p "$d"
     # --- 1. lockstep scenario 3 with recording
-    l=$(load1)
-    t0=$(now)
-    checked --log "$d/lockstep.log" --expect-report "$d/lockstep.json" -- -p "$PORT" \
-      preadaptive_mrac scenario.launch scenario:=3 mode:="$MODE" clock:=lockstep shape:="$shape" \
-      record:=true bag_dir:="$d/bags" latency_report:="$d/lockstep.json" output:=log
-    printf 'lockstep\t%s\t%s\t%s\t%s\t%s\n' "$shape" "$rep" "$l" "$(echo "$(now) - $t0" | bc)" \
-      "$d/lockstep.json" >>"$RESULTS"
+    timed lockstep "$shape" "$rep" "$d/lockstep.json" -- --log "$d/lockstep.log" \
+      --expect-report "$d/lockstep.json" -- -p "$PORT" preadaptive_mrac scenario.launch \
+      scenario:=3 mode:="$MODE" clock:=lockstep shape:="$shape" record:=true \
+      bag_dir:="$d/bags" latency_report:="$d/lockstep.json" output:=log
     # Keep the first nodelet bag for the check against the CLI (about 90 MB each).
     [ "$shape.$rep" = nodelet.1 ] || rm -rf "$d/bags"
     # --- 2. compare.launch scenario 1 (two loops, recording on)
-    l=$(load1)
-    t0=$(now)
-    checked --log "$d/compare.log" --expect-report "$d/rac_plant.json" \
+    timed compare "$shape" "$rep" "$d/rac_plant.json,$d/pa_plant.json" -- \
+      --log "$d/compare.log" --expect-report "$d/rac_plant.json" \
       --expect-report "$d/pa_plant.json" -- -p "$PORT" preadaptive_mrac compare.launch \
       scenario:=1 pa_mode:="$MODE" shape:="$shape" bag_dir:="$d/bags_compare" report_dir:="$d" \
       output:=log
-    printf 'compare\t%s\t%s\t%s\t%s\t%s\n' "$shape" "$rep" "$l" "$(echo "$(now) - $t0" | bc)" \
-      "$d/rac_plant.json,$d/pa_plant.json" >>"$RESULTS"
     rm -rf "$d/bags_compare"
     echo "# rep $rep $shape: lockstep and compare done (load $(load1))" >&2
   done
@@ -78,13 +83,11 @@ for rep in $(seq 1 "$RT_REPS"); do
   for shape in $SHAPES; do
     d="$WORK/$shape.rt$rep"
     mkdir -p "$d"
-    l=$(load1)
-    t0=$(now)
-    checked --log "$d/realtime.log" --expect-report "$d/realtime.json" -- -p "$PORT" \
-      preadaptive_mrac scenario.launch scenario:=1 mode:="$MODE" clock:=realtime shape:="$shape" \
-      rate:=1000 rt_priority:="$RT_PRIO" latency_report:="$d/realtime.json" output:=log
-    printf 'realtime\t%s\t%s\t%s\t%s\t%s\n' "$shape" "$rep" "$l" "$(echo "$(now) - $t0" | bc)" \
-      "$d/realtime.json" >>"$RESULTS"
+    # --- 3. realtime 1 kHz, scenario 1
+    timed realtime "$shape" "$rep" "$d/realtime.json" -- --log "$d/realtime.log" \
+      --expect-report "$d/realtime.json" -- -p "$PORT" preadaptive_mrac scenario.launch \
+      scenario:=1 mode:="$MODE" clock:=realtime shape:="$shape" rate:=1000 \
+      rt_priority:="$RT_PRIO" latency_report:="$d/realtime.json" output:=log
     echo "# realtime rep $rep $shape done (load $(load1))" >&2
   done
 done
@@ -137,7 +140,7 @@ for s in shapes:
     o = out[s]
     print("| compare.launch, scenario 1, rac + %s, recording (%s runs) | %s | %.2f (slower plant) | %.1f | - | - | %s |"
           % (mode, reps, s, o["cmp_wall"], o["cmp_total"], o["cmp_load"]))
-for s in shapes:
+for s in shapes if int(rt_reps) > 0 else []:
     o = out[s]
     print("| realtime 1 kHz, scenario 1, %s (%s runs, %s) | %s | %.3f | - | %.0f / %.0f / %.0f | %.0f / %.0f | %s |"
           % (mode, rt_reps, o["rt_sched"], s, o["rt_wall"], o["rt_p50"], o["rt_p99"], o["rt_max"], o["rt_stale"], o["rt_late"], o["rt_load"]))

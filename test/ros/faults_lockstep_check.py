@@ -14,36 +14,22 @@ faults_lockstep.test) so it can SIGKILL and restart them:
 Every wait is bounded.
 """
 import os
-import signal
-import subprocess
 import sys
-import threading
 import time
-import unittest
 
 import rospy
 
-from rostest_util import wait_for
-from catkin.find_in_workspaces import find_in_workspaces
+from rostest_util import NodeProcessTest, read_episodes, wait_for
 import rostest
 from preadaptive_mrac.msg import AdaptationStatus, ElevatorCommand, PlantState
 
 PKG = "preadaptive_mrac"
 
 
-def read_episodes(path):
-    with open(path) as f:
-        for line in f:
-            if line.startswith("episodes:"):
-                return int(line.split(":")[1])
-    return None
-
-
-class FaultsLockstepTest(unittest.TestCase):
+class FaultsLockstepTest(NodeProcessTest):
     def setUp(self):
-        self.lock = threading.Lock()
+        super().setUp()
         self.cmds, self.states, self.status = [], [], []
-        self.procs = []
         rospy.Subscriber("controller/elevator_cmd", ElevatorCommand,
                          lambda m: self.add(self.cmds, m), queue_size=None, tcp_nodelay=True)
         rospy.Subscriber("plant/state", PlantState, lambda m: self.add(self.states, m),
@@ -53,32 +39,6 @@ class FaultsLockstepTest(unittest.TestCase):
         self.weights = rospy.get_param("/mrac_controller/weights_out")
         if os.path.exists(self.weights):
             os.remove(self.weights)
-
-    def tearDown(self):
-        for p in self.procs:
-            if p.poll() is None:
-                p.kill()
-                p.wait(10)
-
-    def add(self, lst, m):
-        with self.lock:
-            lst.append((time.monotonic(), m))
-
-    def after(self, lst, t0):
-        with self.lock:
-            return [m for t, m in lst if t > t0]
-
-    def start(self, node, name):
-        exe = find_in_workspaces(["libexec"], project=PKG, path=node, first_match_only=True)
-        self.assertTrue(exe, "%s not found in the workspace" % node)
-        p = subprocess.Popen([exe[0], "__name:=" + name])
-        self.procs.append(p)
-        return p
-
-    def kill(self, p):
-        p.send_signal(signal.SIGKILL)
-        p.wait(10)
-        return time.monotonic()
 
     def test_controller_and_plant_restarts(self):
         ctl = self.start("mrac_controller_node", "mrac_controller")
