@@ -1,21 +1,34 @@
 #!/usr/bin/env bash
-# ROS benchmark (not a test): prints a Markdown table for docs/ros.md "Performance".
-#   1. lockstep, scenario 3 (140 s at 1 ms = 140 000 round trips), recording on: wall time,
-#      round-trip latency, and the bag checked against the batch CLI (bench/bag_vs_cli.py);
-#   2. realtime at 1 kHz, scenario 1 (60 s): latency from the state's stamp to the command's
-#      arrival at the plant (wall clock) p50/p99/max, and missed (stale) steps.
-# Usage: bench/ros_bench.sh [devel/setup.bash]   (default: build_ros/devel/setup.bash)
-# Env:   PMRAC_BENCH_PORT (ROS master port, default 11511), PMRAC_BENCH_MODE (default pa_learn),
+# ROS benchmark (not a test): both shapes (nodelet: one pmrac_manager process; process: one
+# process per node) in one run, interleaved, so that their ratio is measured under the same
+# load. Prints a Markdown table of medians for docs/ros.md and docs/performance.md:
+#   1. lockstep, scenario 3 (140 s at 1 ms = 140 000 round trips), $MODE, recording on: the
+#      plant's wall time from step 0 to the last step, roslaunch's total, round-trip latency;
+#      the first nodelet bag is checked against the batch CLI (bench/bag_vs_cli.py);
+#   2. compare.launch, scenario 1 (two loops, rac and $MODE, recording on): roslaunch's total
+#      and the slower plant's wall time;
+#   3. realtime at 1 kHz, scenario 1 (60 s): latency from the state's stamp to the command's
+#      arrival at the plant p50/p99/max, stale steps, late ticks.
+# The 1-minute load average is recorded before each run; the table gives its range.
+# Usage: bench/ros_bench.sh [devel/setup.bash]   (default: build/devel/setup.bash)
+# Env:   PMRAC_BENCH_PORT (ROS master port, default 11511), PMRAC_BENCH_MODE (pa_learn),
+#        PMRAC_BENCH_REPS (lockstep and compare runs per shape, 3), PMRAC_BENCH_RT_REPS
+#        (realtime runs per shape, 1), PMRAC_BENCH_RT_PRIORITY (rt_priority of the realtime
+#        runs, 0 = normal scheduling), PMRAC_BENCH_SHAPES ("nodelet process"),
 #        PMRAC_BENCH_SKIP_BAG_CHECK=1 to skip the bag-vs-CLI comparison.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-SETUP="${1:-$ROOT/build_ros/devel/setup.bash}"
+SETUP="${1:-$ROOT/build/devel/setup.bash}"
 PORT="${PMRAC_BENCH_PORT:-11511}"
 MODE="${PMRAC_BENCH_MODE:-pa_learn}"
-PY=/usr/bin/python3   # the interpreter with the ROS modules
+REPS="${PMRAC_BENCH_REPS:-3}"
+RT_REPS="${PMRAC_BENCH_RT_REPS:-1}"
+RT_PRIO="${PMRAC_BENCH_RT_PRIORITY:-0}"
+SHAPES="${PMRAC_BENCH_SHAPES:-nodelet process}"
+PY=/usr/bin/python3 # the interpreter with the ROS modules
 
-set +u  # the ROS setup scripts read unset variables
+set +u # the ROS setup scripts read unset variables
 # shellcheck disable=SC1090
 source "$SETUP"
 set -u
@@ -24,48 +37,121 @@ WORK="$(mktemp -d "${TMPDIR:-/tmp}/pmrac_ros_bench.XXXXXX")"
 export ROS_HOME="$WORK/ros_home"
 mkdir -p "$ROS_HOME"
 SIM_BIN="$(dirname "$SETUP")/lib/preadaptive_mrac/preadapt_sim"
-
-json() {  # json FILE KEY.PATH
-  "$PY" -c 'import json,sys; d=json.load(open(sys.argv[1]));
-for k in sys.argv[2].split("."): d=d[k]
-print(d)' "$1" "$2"
-}
+RESULTS="$WORK/results.tsv" # kind shape rep load roslaunch_s report...
+: >"$RESULTS"
+load1() { cut -d' ' -f1 /proc/loadavg; }
+now() { date +%s.%N; }
 
 echo "# work dir $WORK; load before: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
-
-# --- 1. lockstep scenario 3 with recording
-start=$(date +%s.%N)
 # roslaunch exits 0 even when a node died with an error: launch_checked tells (and names the
-# refused keys), and checks the plant's report says the run completed.
-"$ROOT/scripts/lib/launch_checked" --log "$WORK/lockstep.log" --quiet \
-  --expect-report "$WORK/lockstep.json" -- \
-  -p "$PORT" preadaptive_mrac scenario.launch scenario:=3 mode:="$MODE" clock:=lockstep \
-  record:=true bag_dir:="$WORK/bags" latency_report:="$WORK/lockstep.json" output:=log
-end=$(date +%s.%N)
-total_lock=$(echo "$end - $start" | bc)
-bag=$(ls "$WORK"/bags/*.bag)
+# refused keys), and checks each plant's report says the run completed.
+checked() { "$ROOT/scripts/lib/launch_checked" --quiet "$@"; }
+# timed KIND SHAPE REP REPORTS -- LAUNCH_CHECKED_ARGS...: one run, a line in $RESULTS (the load
+# before it, roslaunch's total wall time, the plant reports, comma-separated).
+timed() {
+  local kind=$1 shape=$2 rep=$3 reports=$4 l t0
+  shift 5
+  l=$(load1)
+  t0=$(now)
+  checked "$@"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$kind" "$shape" "$rep" "$l" "$(echo "$(now) - $t0" | bc)" \
+    "$reports" >>"$RESULTS"
+}
+
+for rep in $(seq 1 "$REPS"); do
+  for shape in $SHAPES; do
+    d="$WORK/$shape.$rep"
+    mkdir -p "$d"
+    # --- 1. lockstep scenario 3 with recording
+    timed lockstep "$shape" "$rep" "$d/lockstep.json" -- --log "$d/lockstep.log" \
+      --expect-report "$d/lockstep.json" -- -p "$PORT" preadaptive_mrac scenario.launch \
+      scenario:=3 mode:="$MODE" clock:=lockstep shape:="$shape" record:=true \
+      bag_dir:="$d/bags" latency_report:="$d/lockstep.json" output:=log
+    # Keep the first nodelet bag for the check against the CLI (about 90 MB each).
+    [ "$shape.$rep" = nodelet.1 ] || rm -rf "$d/bags"
+    # --- 2. compare.launch scenario 1 (two loops, recording on)
+    timed compare "$shape" "$rep" "$d/rac_plant.json,$d/pa_plant.json" -- \
+      --log "$d/compare.log" --expect-report "$d/rac_plant.json" \
+      --expect-report "$d/pa_plant.json" -- -p "$PORT" preadaptive_mrac compare.launch \
+      scenario:=1 pa_mode:="$MODE" shape:="$shape" bag_dir:="$d/bags_compare" report_dir:="$d" \
+      output:=log
+    rm -rf "$d/bags_compare"
+    echo "# rep $rep $shape: lockstep and compare done (load $(load1))" >&2
+  done
+done
+for rep in $(seq 1 "$RT_REPS"); do
+  for shape in $SHAPES; do
+    d="$WORK/$shape.rt$rep"
+    mkdir -p "$d"
+    # --- 3. realtime 1 kHz, scenario 1
+    timed realtime "$shape" "$rep" "$d/realtime.json" -- --log "$d/realtime.log" \
+      --expect-report "$d/realtime.json" -- -p "$PORT" preadaptive_mrac scenario.launch \
+      scenario:=1 mode:="$MODE" clock:=realtime shape:="$shape" rate:=1000 \
+      rt_priority:="$RT_PRIO" latency_report:="$d/realtime.json" output:=log
+    echo "# realtime rep $rep $shape done (load $(load1))" >&2
+  done
+done
+
 bag_check="skipped"
-if [ "${PMRAC_BENCH_SKIP_BAG_CHECK:-0}" != "1" ]; then
-  "$SIM_BIN" --scenario 3 --mode "$MODE" --dt 0.001 --csv "$WORK/cli3.csv" > /dev/null
-  bag_check=$("$PY" "$ROOT/bench/bag_vs_cli.py" "$bag" "$WORK/cli3.csv" || true)
+first_bag=$(ls "$WORK"/nodelet.1/bags/*.bag 2>/dev/null | head -1 || true)
+if [ "${PMRAC_BENCH_SKIP_BAG_CHECK:-0}" != "1" ] && [ -n "$first_bag" ]; then
+  "$SIM_BIN" --scenario 3 --mode "$MODE" --dt 0.001 --csv "$WORK/cli3.csv" >/dev/null
+  bag_check=$("$PY" "$ROOT/bench/bag_vs_cli.py" "$first_bag" "$WORK/cli3.csv" || true)
 fi
-load_lock=$(cut -d' ' -f1 /proc/loadavg)
 
-# --- 2. realtime 1 kHz, scenario 1 (60 s)
-"$ROOT/scripts/lib/launch_checked" --log "$WORK/realtime.log" --quiet \
-  --expect-report "$WORK/realtime.json" -- \
-  -p "$PORT" preadaptive_mrac scenario.launch scenario:=1 mode:="$MODE" clock:=realtime \
-  rate:=1000 latency_report:="$WORK/realtime.json" output:=log
-load_rt=$(cut -d' ' -f1 /proc/loadavg)
-
-L="$WORK/lockstep.json"
-R="$WORK/realtime.json"
-cat <<TABLE
-| run | steps | wall time [s] | round trip p50 / p99 / max [us] | missed steps | notes |
-| --- | --- | --- | --- | --- | --- |
-| lockstep, scenario 3, $MODE, recording | $(json "$L" steps) / $(json "$L" total_steps) | $(printf %.1f "$(json "$L" wall_time_s)") (roslaunch total $(printf %.1f "$total_lock")) | $(printf '%.0f / %.0f / %.0f' "$(json "$L" latency_us.p50)" "$(json "$L" latency_us.p99)" "$(json "$L" latency_us.max)") | n/a (lockstep waits) | $(printf '%.0f' "$(echo "$(json "$L" total_steps) / $(json "$L" wall_time_s)" | bc -l)") steps/s; recorder waits $(json "$L" recorder_waits); load $load_lock |
-| realtime 1 kHz, scenario 1, $MODE | $(json "$R" steps) / $(json "$R" total_steps) | $(printf %.1f "$(json "$R" wall_time_s)") | $(printf '%.0f / %.0f / %.0f' "$(json "$R" latency_us.p50)" "$(json "$R" latency_us.p99)" "$(json "$R" latency_us.max)") | $(json "$R" stale_steps) stale, $(json "$R" late_ticks) late ticks | commands $(json "$R" commands_received); load $load_rt |
-
-Bag check (lockstep bag vs CLI CSV): $bag_check
-TABLE
+"$PY" - "$RESULTS" "$MODE" "$REPS" "$RT_REPS" "$RT_PRIO" <<'PY'
+import json, statistics, sys
+path, mode, reps, rt_reps, rt_prio = sys.argv[1:]
+rows = [l.rstrip("\n").split("\t") for l in open(path) if l.strip()]
+def med(xs):
+    return statistics.median(xs) if xs else float("nan")
+def runs(kind, shape):
+    return [r for r in rows if r[0] == kind and r[1] == shape]
+shapes = [s for s in dict.fromkeys(r[1] for r in rows)]
+def loads(rs):
+    ls = [float(r[3]) for r in rs]
+    return "%.2f-%.2f" % (min(ls), max(ls)) if ls else "n/a"
+out = {}
+for shape in shapes:
+    lk = runs("lockstep", shape)
+    rep = [json.load(open(r[5])) for r in lk]
+    cm = runs("compare", shape)
+    cmp_wall = [max(json.load(open(f))["wall_time_s"] for f in r[5].split(",")) for r in cm]
+    rt = [json.load(open(r[5])) for r in runs("realtime", shape)]
+    out[shape] = dict(
+        lock_wall=med([j["wall_time_s"] for j in rep]), lock_total=med([float(r[4]) for r in lk]),
+        lock_p50=med([j["latency_us"]["p50"] for j in rep]),
+        lock_p99=med([j["latency_us"]["p99"] for j in rep]),
+        lock_steps="%d / %d" % (rep[0]["steps"], rep[0]["total_steps"]) if rep else "n/a",
+        lock_waits=med([j["recorder_waits"] for j in rep]), lock_load=loads(lk),
+        cmp_wall=med(cmp_wall), cmp_total=med([float(r[4]) for r in cm]), cmp_load=loads(cm),
+        rt_p50=med([j["latency_us"]["p50"] for j in rt]), rt_p99=med([j["latency_us"]["p99"] for j in rt]),
+        rt_max=med([j["latency_us"]["max"] for j in rt]), rt_stale=med([j["stale_steps"] for j in rt]),
+        rt_late=med([j["late_ticks"] for j in rt]), rt_wall=med([j["wall_time_s"] for j in rt]),
+        rt_sched=rt[0].get("scheduling", "?") if rt else "n/a", rt_load=loads(runs("realtime", shape)),
+    )
+print("| run | shape | wall time [s] (median) | roslaunch total [s] | round trip p50 / p99 / max [us] | stale steps / late ticks | load (1 min) |")
+print("| --- | --- | --- | --- | --- | --- | --- |")
+for s in shapes:
+    o = out[s]
+    print("| lockstep, scenario 3, %s, recording (%s runs) | %s | %.2f | %.1f | %.0f / %.0f / - | n/a (recorder waits %.0f) | %s |"
+          % (mode, reps, s, o["lock_wall"], o["lock_total"], o["lock_p50"], o["lock_p99"], o["lock_waits"], o["lock_load"]))
+for s in shapes:
+    o = out[s]
+    print("| compare.launch, scenario 1, rac + %s, recording (%s runs) | %s | %.2f (slower plant) | %.1f | - | - | %s |"
+          % (mode, reps, s, o["cmp_wall"], o["cmp_total"], o["cmp_load"]))
+for s in shapes if int(rt_reps) > 0 else []:
+    o = out[s]
+    print("| realtime 1 kHz, scenario 1, %s (%s runs, %s) | %s | %.3f | - | %.0f / %.0f / %.0f | %.0f / %.0f | %s |"
+          % (mode, rt_reps, o["rt_sched"], s, o["rt_wall"], o["rt_p50"], o["rt_p99"], o["rt_max"], o["rt_stale"], o["rt_late"], o["rt_load"]))
+if "nodelet" in out and "process" in out:
+    n, p = out["nodelet"], out["process"]
+    print()
+    print("Ratios process / nodelet (same run): lockstep wall %.2fx, lockstep roslaunch total %.2fx, "
+          "compare wall %.2fx, compare roslaunch total %.2fx, realtime p99 %.2fx."
+          % (p["lock_wall"] / n["lock_wall"], p["lock_total"] / n["lock_total"],
+             p["cmp_wall"] / n["cmp_wall"], p["cmp_total"] / n["cmp_total"], p["rt_p99"] / n["rt_p99"]))
+PY
+echo
+echo "Bag check (first nodelet lockstep bag vs CLI CSV): $bag_check"
 echo "# logs and reports in $WORK" >&2

@@ -5,11 +5,13 @@
 # ROS-free parts of the glue (parameter reading, latency statistics): tested without a master.
 add_library(preadaptive_mrac_ros_params
   src/ros/node_params.cpp
-  src/ros/latency_stats.cpp)
+  src/ros/latency_stats.cpp
+  src/ros/tick_source.cpp)
 target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)
 
 add_library(preadaptive_mrac_ros
   src/ros/ros_params.cpp
+  src/ros/node_context.cpp
   src/ros/plant_sim_node.cpp
   src/ros/mrac_controller_node.cpp
   src/ros/run_monitor.cpp
@@ -33,10 +35,19 @@ set_target_properties(plant_sim_node mrac_controller_node run_monitor_node bag_r
   PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
-install(TARGETS preadaptive_mrac_ros_params preadaptive_mrac_ros
+# The same classes as nodelets (nodelet_plugins.xml, exported in package.xml), and a manager
+# that returns the exit code a required nodelet asked for.
+add_library(preadaptive_mrac_nodelets SHARED src/ros/nodelets.cpp)
+target_link_libraries(preadaptive_mrac_nodelets PUBLIC preadaptive_mrac_ros)
+add_executable(pmrac_manager src/nodes/pmrac_manager.cpp)
+target_link_libraries(pmrac_manager preadaptive_mrac_ros)
+set_target_properties(pmrac_manager PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+
+install(TARGETS preadaptive_mrac_ros_params preadaptive_mrac_ros preadaptive_mrac_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node
+install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node pmrac_manager
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 # Issue 11: LD_PRELOAD shim that keeps roscpp's XML-RPC server (which binds 0.0.0.0 whatever
@@ -45,3 +56,4 @@ add_library(pmrac_loopback_bind SHARED src/loopback/loopback_bind.cpp)
 target_link_libraries(pmrac_loopback_bind ${CMAKE_DL_LIBS})
 set_target_properties(pmrac_loopback_bind PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})

@@ -10,7 +10,7 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_ros_node_params PRIVATE
     PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
 
-  # Lockstep against the batch CLI, one registration per mode (same .test, different args):
+  # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle
   # yardstick (like pa_learn_exact, it needs plant/truth).
   add_executable(test_ros_lockstep test/ros/lockstep_equivalence_test.cpp)
@@ -23,9 +23,13 @@ if(CATKIN_ENABLE_TESTING)
   if(TARGET tests)
     add_dependencies(tests test_ros_lockstep)
   endif()
-  foreach(mode rac pa_learn pa_learn_exact pa_robust oracle)
-    add_rostest(test/ros/lockstep.test ARGS mode:=${mode}
-      DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node preadapt_sim)
+  # Both shapes: plant and controller as nodelets in one pmrac_manager, and as processes.
+  foreach(shape nodelet process)
+    foreach(mode rac pa_learn pa_learn_exact pa_robust oracle)
+      add_rostest(test/ros/lockstep.test ARGS mode:=${mode} shape:=${shape}
+        DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
+                     preadaptive_mrac_nodelets preadapt_sim)
+    endforeach()
   endforeach()
 
   # Broken parameters: nodes exit non-zero naming the key and never publish a command.
@@ -58,4 +62,8 @@ if(CATKIN_ENABLE_TESTING)
   # the CLI run with the new c_ed bit for bit.
   add_rostest(test/ros/reconfigure.test
     DEPENDENCIES plant_sim_node mrac_controller_node bag_recorder_node preadapt_sim)
+  # The same in lockstep: the plant restarted from step 0; the controller killed after a
+  # learning episode, the plant waiting (repeating its state) until the restarted controller
+  # answers; the run completes with every step answered.
+  add_rostest(test/ros/faults_lockstep.test DEPENDENCIES plant_sim_node mrac_controller_node)
 endif()

@@ -1,11 +1,20 @@
 #include "preadaptive_mrac/ros/bag_recorder.hpp"
 
+#include <tf2_msgs/TFMessage.h>
+
+#include <boost/make_shared.hpp>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <set>
 #include <sstream>
+#include <type_traits>
 
+#include "preadaptive_mrac/AdaptationStatus.h"
+#include "preadaptive_mrac/AttentionEvent.h"
+#include "preadaptive_mrac/ElevatorCommand.h"
 #include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/PlantTruth.h"
 #include "preadaptive_mrac/RecorderProgress.h"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
@@ -24,9 +33,8 @@ std::string dateSuffix() {
 
 }  // namespace
 
-BagRecorder::BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params)
-    : nh_(nh), params_(params), progress_every_(params.progress_every) {
-  progress_pub_ = ros::NodeHandle("~").advertise<RecorderProgress>("progress", 100);
+BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params)
+    : ctx_(ctx), nh_(ctx.nh()), params_(params), progress_every_(params.progress_every) {
   base_ =
       params.output.empty() ? params.output_prefix + "_" + dateSuffix() + ".bag" : params.output;
   const std::filesystem::path dir = std::filesystem::path(base_).parent_path();
@@ -36,18 +44,37 @@ BagRecorder::BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& par
   if (base_.size() > 4 && base_.compare(base_.size() - 4, 4, ".bag") == 0)
     base_.resize(base_.size() - 4);
   openBag();
-  for (const auto& t : params.topics) {
-    const std::string resolved = nh_.resolveName(t);
+  for (std::size_t i = 0; i < params.topics.size(); ++i) {
+    const std::string resolved = nh_.resolveName(params.topics[i]);
+    const std::string type = i < params.types.size() ? params.types[i] : std::string();
     counts_[resolved] = 0;
     // Queue size 0: unbounded, so nothing is dropped however far behind this node falls.
-    subs_.push_back(nh_.subscribe<topic_tools::ShapeShifter>(
-        resolved, 0,
-        boost::function<void(const ros::MessageEvent<topic_tools::ShapeShifter const>&)>(
-            [this, resolved](const ros::MessageEvent<topic_tools::ShapeShifter const>& ev) {
-              callback(resolved, ev);
-            }),
-        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+    if (type == ros::message_traits::datatype<PlantState>()) {
+      subs_.push_back(subscribeTyped<PlantState>(resolved));
+    } else if (type == ros::message_traits::datatype<PlantTruth>()) {
+      subs_.push_back(subscribeTyped<PlantTruth>(resolved));
+    } else if (type == ros::message_traits::datatype<ElevatorCommand>()) {
+      subs_.push_back(subscribeTyped<ElevatorCommand>(resolved));
+    } else if (type == ros::message_traits::datatype<AttentionEvent>()) {
+      subs_.push_back(subscribeTyped<AttentionEvent>(resolved));
+    } else if (type == ros::message_traits::datatype<AdaptationStatus>()) {
+      subs_.push_back(subscribeTyped<AdaptationStatus>(resolved));
+    } else if (type == ros::message_traits::datatype<tf2_msgs::TFMessage>()) {
+      subs_.push_back(subscribeTyped<tf2_msgs::TFMessage>(resolved));
+    } else {
+      subs_.push_back(nh_.subscribe<topic_tools::ShapeShifter>(
+          resolved, 0,
+          boost::function<void(const ros::MessageEvent<topic_tools::ShapeShifter const>&)>(
+              [this, resolved](const ros::MessageEvent<topic_tools::ShapeShifter const>& ev) {
+                callback(resolved, ev);
+              }),
+          ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+    }
   }
+  // Advertised last: a plant that sees this publisher knows every subscription above exists
+  // (in a nodelet manager, where subscribers in one process share one connection and cannot be
+  // counted, that is how the plant knows the recorder is ready before step 0).
+  progress_pub_ = ctx.pnh().advertise<RecorderProgress>("progress", 100);
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
 }
 
@@ -111,12 +138,41 @@ void BagRecorder::callback(const std::string& topic,
     std::memcpy(&nsec, buf_.data() + 8, 4);
     t = ros::Time(sec, nsec);
   }
+  const PlantState::ConstPtr st = msg.getDataType() == ros::message_traits::datatype<PlantState>()
+                                      ? msg.instantiate<PlantState>()
+                                      : PlantState::ConstPtr();
+  record(topic, t, *ev.getConstMessage(), ev.getConnectionHeaderPtr(), st.get());
+}
+
+template <class M>
+ros::Subscriber BagRecorder::subscribeTyped(const std::string& resolved) {
+  return nh_.subscribe<M>(
+      resolved, 0,
+      boost::function<void(const ros::MessageEvent<M const>&)>(
+          [this, resolved](const ros::MessageEvent<M const>& ev) { typedCallback(resolved, ev); }),
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+}
+
+template <class M>
+void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEvent<M const>& ev) {
+  const M& msg = *ev.getConstMessage();
+  ros::Time t = ros::Time::now();
+  const PlantState* state = nullptr;
+  if constexpr (ros::message_traits::HasHeader<M>::value) t = msg.header.stamp;
+  if constexpr (std::is_same<M, PlantState>::value) state = &msg;
+  record(topic, t, msg, ev.getConnectionHeaderPtr(), state);
+}
+
+template <class M>
+void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
+                         const boost::shared_ptr<ros::M_string>& connection_header,
+                         const PlantState* state) {
   // A bag cannot hold time 0 (simulation time before the first /clock).
   if (t < ros::TIME_MIN) t = ros::TIME_MIN;
   try {
-    bag_.write(topic, t, ev.getConstMessage(), ev.getConnectionHeaderPtr());
+    bag_.write(topic, t, msg, connection_header);
     ++counts_[topic];
-    reportProgress(topic, msg);
+    if (state != nullptr) reportProgress(topic, *state);
     if (splitDue()) {
       closeBag();
       ROS_INFO("closed %s (split)", path_.c_str());
@@ -128,36 +184,34 @@ void BagRecorder::callback(const std::string& topic,
   }
 }
 
-void BagRecorder::reportProgress(const std::string& topic, const topic_tools::ShapeShifter& msg) {
-  if (msg.getDataType() != ros::message_traits::datatype<PlantState>()) return;
-  const PlantState::ConstPtr st = msg.instantiate<PlantState>();
-  if (!st) return;
-  const bool last = st->total_steps > 0 && st->step + 1 >= st->total_steps;
-  if (!last && st->step % static_cast<std::uint64_t>(progress_every_) != 0) return;
-  RecorderProgress p;
-  p.header.stamp = st->header.stamp;
-  p.topic = topic;
-  p.step = st->step;
-  p.total_steps = st->total_steps;
-  progress_pub_.publish(p);
+void BagRecorder::reportProgress(const std::string& topic, const PlantState& st) {
+  const bool last = st.total_steps > 0 && st.step + 1 >= st.total_steps;
+  if (!last && st.step % static_cast<std::uint64_t>(progress_every_) != 0) return;
+  const auto p = boost::make_shared<RecorderProgress>();
+  p->header.stamp = st.header.stamp;
+  p->topic = topic;
+  p->step = st.step;
+  p->total_steps = st.total_steps;
+  progress_pub_.publish(RecorderProgress::ConstPtr(p));
 }
 
-int BagRecorder::run() {
-  // One thread: each callback writes its message (the bag buffers chunks in memory).
-  ros::spin();
+BagRecorder::~BagRecorder() { finish(); }
+
+void BagRecorder::finish() {
+  if (closed_) return;
+  closed_ = true;
   subs_.clear();
   closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
-  printAfterShutdown(
+  ctx_.printFinal(
       "closed " + path_ +
       (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +
       "; messages:" + summary);
-  return 0;
 }
 
-int runBagRecorderNode() {
-  ros::NodeHandle pnh("~");
+std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx) {
+  ros::NodeHandle pnh = ctx.pnh();
   BagRecorderParams p;
   std::vector<std::string> problems;
   XmlRpc::XmlRpcValue v;
@@ -171,6 +225,33 @@ int runBagRecorderNode() {
                            "]: expected a topic name");
       } else {
         p.topics.push_back(static_cast<std::string>(v[i]));
+      }
+    }
+  }
+  if (pnh.getParam("types", v)) {
+    if (v.getType() != XmlRpc::XmlRpcValue::TypeArray ||
+        v.size() != static_cast<int>(p.topics.size())) {
+      problems.push_back(pnh.resolveName("types") + ": expected a list of " +
+                         std::to_string(p.topics.size()) + " type names, one per ~topics entry");
+    } else {
+      const std::set<std::string> known = {"",
+                                           ros::message_traits::datatype<PlantState>(),
+                                           ros::message_traits::datatype<PlantTruth>(),
+                                           ros::message_traits::datatype<ElevatorCommand>(),
+                                           ros::message_traits::datatype<AttentionEvent>(),
+                                           ros::message_traits::datatype<AdaptationStatus>(),
+                                           ros::message_traits::datatype<tf2_msgs::TFMessage>()};
+      for (int i = 0; i < v.size(); ++i) {
+        const std::string key = pnh.resolveName("types") + "[" + std::to_string(i) + "]";
+        if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
+          problems.push_back(key + ": expected a type name");
+        } else if (known.count(static_cast<std::string>(v[i])) == 0) {
+          problems.push_back(key + ": '" + static_cast<std::string>(v[i]) +
+                             "' is not one of this package's messages or tf2_msgs/TFMessage "
+                             "(\"\" records any type)");
+        } else {
+          p.types.push_back(static_cast<std::string>(v[i]));
+        }
       }
     }
   }
@@ -195,16 +276,22 @@ int runBagRecorderNode() {
   if (p.output.empty() && p.output_prefix.empty())
     problems.push_back(pnh.resolveName("output") + ": set ~output or ~output_prefix");
   if (!problems.empty()) {
-    logConfigProblems(problems);
-    return kExitConfigError;
+    ctx.logConfigProblems(problems);
+    ctx.end(kExitConfigError);
+    return nullptr;
   }
   try {
-    BagRecorder r(ros::NodeHandle(), p);
-    return r.run();
+    return std::make_unique<BagRecorder>(ctx, p);
   } catch (const std::exception& e) {
-    ROS_FATAL("cannot record: %s", e.what());
-    return kExitRuntimeError;
+    ROS_FATAL("%s: cannot record: %s", ctx.name().c_str(), e.what());
+    ctx.end(kExitRuntimeError);
+    return nullptr;
   }
+}
+
+int runBagRecorderNode() {
+  // One thread: each callback writes its message (the bag buffers chunks in memory).
+  return spinProcessNode(makeBagRecorder);
 }
 
 }  // namespace ros1

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <nlohmann/json.hpp>
 #include <numeric>
-#include <sstream>
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -15,32 +14,6 @@ double nearestRank(const std::vector<double>& sorted, double p) {
   auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(n)));
   rank = std::max<std::size_t>(1, std::min(rank, n));
   return sorted[rank - 1];
-}
-
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof(buf), "\\u%04x", static_cast<unsigned>(c));
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
 }
 
 }  // namespace
@@ -59,20 +32,30 @@ LatencySummary summarizeLatency(std::vector<double> samples_us) {
 }
 
 std::string runReportJson(const RunReport& r) {
-  std::ostringstream os;
-  os.precision(10);
-  os << "{\"clock\": " << jsonString(r.clock) << ", \"scenario\": " << jsonString(r.scenario)
-     << ", \"dt\": " << r.dt << ", \"rate_hz\": " << r.rate_hz << ", \"steps\": " << r.steps
-     << ", \"total_steps\": " << r.total_steps
-     << ", \"completed\": " << (r.completed ? "true" : "false")
-     << ", \"wall_time_s\": " << r.wall_time_s << ", \"commands_received\": " << r.commands_received
-     << ", \"commands_ignored\": " << r.commands_ignored << ", \"stale_steps\": " << r.stale_steps
-     << ", \"late_ticks\": " << r.late_ticks << ", \"resent_states\": " << r.resent_states
-     << ", \"recorder_waits\": " << r.recorder_waits
-     << ", \"latency_us\": {\"count\": " << r.latency.count << ", \"p50\": " << r.latency.p50_us
-     << ", \"p99\": " << r.latency.p99_us << ", \"max\": " << r.latency.max_us
-     << ", \"mean\": " << r.latency.mean_us << "}}";
-  return os.str();
+  nlohmann::ordered_json j;
+  j["clock"] = r.clock;
+  j["scenario"] = r.scenario;
+  j["dt"] = r.dt;
+  j["rate_hz"] = r.rate_hz;
+  j["steps"] = r.steps;
+  j["total_steps"] = r.total_steps;
+  j["completed"] = r.completed;
+  j["wall_time_s"] = r.wall_time_s;
+  j["commands_received"] = r.commands_received;
+  j["commands_ignored"] = r.commands_ignored;
+  j["stale_steps"] = r.stale_steps;
+  j["late_ticks"] = r.late_ticks;
+  j["resent_states"] = r.resent_states;
+  j["recorder_waits"] = r.recorder_waits;
+  j["scheduling"] = r.scheduling;
+  j["tick_late_us"] = {
+      {"p50", r.tick_late.p50_us}, {"p99", r.tick_late.p99_us}, {"max", r.tick_late.max_us}};
+  j["latency_us"] = {{"count", r.latency.count},
+                     {"p50", r.latency.p50_us},
+                     {"p99", r.latency.p99_us},
+                     {"max", r.latency.max_us},
+                     {"mean", r.latency.mean_us}};
+  return j.dump();
 }
 
 }  // namespace ros1

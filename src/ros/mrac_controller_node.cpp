@@ -1,6 +1,7 @@
 #include "preadaptive_mrac/ros/mrac_controller_node.hpp"
 
 #include <algorithm>
+#include <boost/make_shared.hpp>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -8,6 +9,7 @@
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "preadaptive_mrac/ros/controller_reconfigure.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
+#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -78,11 +80,12 @@ void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg) {
   msg->score_keep = decided ? ev.score_keep : 0.0;
 }
 
-MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
-                                       const ControllerNodeParams& params)
-    : nh_(nh),
+MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerNodeParams& params)
+    : ctx_(ctx),
+      nh_(ctx.nh()),
       params_(params),
       ctl_(params.run.plant, params.run.controller),
+      updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()),
       // The state guard rejects malformed samples before they reach the controller and, fed
       // ROS time, tells when the last valid one is older than ~stale_timeout.
       state_guard_(static_cast<std::size_t>(params.run.plant.n()), params.stale_timeout),
@@ -96,9 +99,6 @@ MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
   episodes_saved_ = ctl_.network().state().episodes;
   x_.resize(n);
   x_last_valid_ = Vec::Zero(n);
-  status_msg_.mode = modeName(ctl_.mode());
-  status_msg_.x_ref.resize(static_cast<size_t>(n));
-  status_msg_.theta_hat.resize(static_cast<size_t>(n));
   // ~queue_size bounds the backlog kept for each slow subscriber; 0 keeps everything.
   const auto q = static_cast<uint32_t>(params_.queue_size);
   cmd_pub_ = nh_.advertise<ElevatorCommand>("controller/elevator_cmd", q);
@@ -106,8 +106,8 @@ MracControllerNode::MracControllerNode(const ros::NodeHandle& nh,
   status_pub_ = nh_.advertise<AdaptationStatus>("controller/status", q);
   updater_.setHardwareID("mrac_controller");
   updater_.add("controller", this, &MracControllerNode::diagnose);
-  reconf_ = std::make_unique<ControllerReconfigure>(nh_, ros::NodeHandle("~reconfigure"), &ctl_,
-                                                    privateKeyStyle());
+  reconf_ = std::make_unique<ControllerReconfigure>(nh_, ros::NodeHandle(ctx.pnh(), "reconfigure"),
+                                                    &ctl_, ctx.keyStyle());
 }
 
 MracControllerNode::~MracControllerNode() = default;
@@ -115,21 +115,34 @@ MracControllerNode::~MracControllerNode() = default;
 void MracControllerNode::fatal(const std::string& what) {
   ROS_FATAL("%s", what.c_str());
   failed_ = true;
-  exit_code_ = kExitConfigError;
-  ros::shutdown();
+  ctx_.end(kExitConfigError);
 }
 
-bool MracControllerNode::waitForSubscribers() {
-  const double start = ros::WallTime::now().toSec();
-  const double timeout = params_.start_timeout;
-  auto enough = [&] {
-    return static_cast<int>(cmd_pub_.getNumSubscribers()) >= params_.min_command_subscribers &&
-           static_cast<int>(status_pub_.getNumSubscribers()) >= params_.min_status_subscribers &&
-           static_cast<int>(attention_pub_.getNumSubscribers()) >= params_.min_status_subscribers;
-  };
-  while (ros::ok()) {
-    if (enough()) return true;
-    if (timeout > 0.0 && ros::WallTime::now().toSec() - start > timeout) {
+bool MracControllerNode::subscribersReady() const {
+  return static_cast<int>(cmd_pub_.getNumSubscribers()) >= params_.min_command_subscribers &&
+         static_cast<int>(status_pub_.getNumSubscribers()) >= params_.min_status_subscribers &&
+         static_cast<int>(attention_pub_.getNumSubscribers()) >= params_.min_status_subscribers;
+}
+
+void MracControllerNode::start() {
+  const ControllerDesign& d = ctl_.design();
+  ROS_INFO("mrac_controller: mode %s, K = [%g %g %g], CARE residual %.2e, Lyapunov residual %.2e",
+           modeName(ctl_.mode()), d.K.size() > 0 ? d.K[0] : 0.0, d.K.size() > 1 ? d.K[1] : 0.0,
+           d.K.size() > 2 ? d.K[2] : 0.0, d.care_residual, d.lyapunov_residual);
+  // Only take states once every wanted subscriber (the plant, a recorder) is connected, so
+  // that nothing this node publishes is lost to a late connection. Connections are made by
+  // roscpp's own threads: poll them from a timer, so nothing blocks (a nodelet's callbacks
+  // share the manager's threads).
+  start_wall_ = ros::WallTime::now().toSec();
+  start_timer_ = nh_.createWallTimer(ros::WallDuration(0.002), [this](const ros::WallTimerEvent&) {
+    if (subscribersReady()) {
+      start_timer_.stop();
+      subscribe();
+      return;
+    }
+    const double timeout = params_.start_timeout;
+    if (timeout > 0.0 && ros::WallTime::now().toSec() - start_wall_ > timeout) {
+      start_timer_.stop();
       ROS_ERROR(
           "no plant after %.1f s (~start_timeout): %u subscriber(s) on %s (wanted %d, "
           "~min_command_subscribers: the plant and recorders), %u on %s and %u on %s (wanted "
@@ -139,22 +152,13 @@ bool MracControllerNode::waitForSubscribers() {
           params_.min_command_subscribers, status_pub_.getNumSubscribers(),
           status_pub_.getTopic().c_str(), attention_pub_.getNumSubscribers(),
           attention_pub_.getTopic().c_str(), params_.min_status_subscribers, kExitRuntimeError);
-      return false;
+      failed_ = true;
+      ctx_.end(kExitRuntimeError);
     }
-    // Connections are made by roscpp's own threads; poll them in short bounded waits.
-    ros::WallDuration(0.002).sleep();
-  }
-  return false;
+  });
 }
 
-int MracControllerNode::run() {
-  const ControllerDesign& d = ctl_.design();
-  ROS_INFO("mrac_controller: mode %s, K = [%g %g %g], CARE residual %.2e, Lyapunov residual %.2e",
-           modeName(ctl_.mode()), d.K.size() > 0 ? d.K[0] : 0.0, d.K.size() > 1 ? d.K[1] : 0.0,
-           d.K.size() > 2 ? d.K[2] : 0.0, d.care_residual, d.lyapunov_residual);
-  // Only take states once every wanted subscriber (the plant, a recorder) is connected, so
-  // that nothing this node publishes is lost to a late connection.
-  if (!waitForSubscribers()) return kExitRuntimeError;
+void MracControllerNode::subscribe() {
   state_sub_ = nh_.subscribe("plant/state", kSampleQueue, &MracControllerNode::stateCallback, this,
                              ros::TransportHints().tcpNoDelay());
   if (ctl_.needsTruth()) {
@@ -169,24 +173,31 @@ int MracControllerNode::run() {
   }
   stale_timer_ = nh_.createTimer(ros::Duration(params_.run.controller.sample_time),
                                  &MracControllerNode::staleTimerCallback, this);
-  ros::spin();
-  if (!failed_) saveWeights("shutdown");
-  printAfterShutdown(std::to_string(steps_) + " steps, " + std::to_string(gaps_) +
-                     " gap(s) in the state sequence, " +
-                     std::to_string(ctl_.network().state().episodes) + " learning episode(s)");
-  return exit_code_;
 }
 
-void MracControllerNode::saveWeights(const char* why) {
+void MracControllerNode::finish() {
+  if (finished_) return;
+  finished_ = true;
+  start_timer_.stop();
+  stale_timer_.stop();
+  state_sub_.shutdown();
+  truth_sub_.shutdown();
+  if (!failed_) saveWeights("shutdown", true);
+  ctx_.printFinal(std::to_string(steps_) + " steps, " + std::to_string(gaps_) +
+                  " gap(s) in the state sequence, " +
+                  std::to_string(ctl_.network().state().episodes) + " learning episode(s)");
+}
+
+void MracControllerNode::saveWeights(const char* why, bool at_end) {
   if (params_.weights_out.empty()) return;
-  const bool after_shutdown = !ros::ok();
+  const bool after_shutdown = at_end || !ros::ok();
   try {
     preadaptive_mrac::saveWeights(params_.weights_out, ctl_.network().state());
     episodes_saved_ = ctl_.network().state().episodes;
     const std::string line = "saved network weights (" + std::to_string(episodes_saved_) +
                              " episodes) to " + params_.weights_out + " (" + why + ")";
     if (after_shutdown) {
-      printAfterShutdown(line);
+      ctx_.printFinal(line);
     } else {
       ROS_INFO("%s", line.c_str());
     }
@@ -194,7 +205,7 @@ void MracControllerNode::saveWeights(const char* why) {
     const std::string line =
         "could not save network weights to " + params_.weights_out + ": " + e.what();
     if (after_shutdown) {
-      printAfterShutdown(line, true);
+      ctx_.printFinal(line, true);
     } else {
       ROS_ERROR("%s", line.c_str());
     }
@@ -203,6 +214,20 @@ void MracControllerNode::saveWeights(const char* why) {
 
 void MracControllerNode::stateCallback(const PlantState::ConstPtr& msg) {
   if (failed_) return;
+  if (params_.rt_priority > 0 || params_.cpu_affinity >= 0) {
+    // Whichever thread runs this callback (a nodelet's callbacks may move between the
+    // manager's worker threads) gets ~rt_priority / ~cpu_affinity, once.
+    thread_local bool scheduled = false;
+    if (!scheduled) {
+      scheduled = true;
+      const SchedulingResult r = applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity);
+      if (!r.warnings.empty()) {
+        ROS_WARN("%s", r.warnings.c_str());
+      } else {
+        ROS_INFO("state callback thread: %s", r.describe().c_str());
+      }
+    }
+  }
   ++states_received_;
   if (!ctl_.needsTruth()) {
     process(*msg, nullptr);
@@ -266,7 +291,7 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   if (!dt_checked_) {
     const double ts = params_.run.controller.sample_time;
     if (std::abs(msg.dt - ts) > 1e-12 * std::max(1.0, ts)) {
-      fatal(ros::this_node::getName() + "/controller/sample_time: " + std::to_string(ts) +
+      fatal(ctx_.keyStyle().root + "controller/sample_time: " + std::to_string(ts) +
             " s differs from the plant's step " + std::to_string(msg.dt) + " s on " +
             state_sub_.getTopic() + "; they must be equal");
       return;
@@ -290,7 +315,7 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
       // (the same command; the controller does not step twice).
       ROS_WARN("state for step %llu repeated: publishing its command again",
                static_cast<unsigned long long>(msg.step));
-      cmd_pub_.publish(cmd_msg_);
+      if (last_cmd_) cmd_pub_.publish(last_cmd_);
       return;
     } else if (msg.step != last_step_ + 1) {
       gaps_ += 1;
@@ -340,16 +365,19 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
     return;
   }
 
-  // The command first: the plant waits for it.
-  cmd_msg_.header.stamp = msg.header.stamp;
-  cmd_msg_.step = msg.step;
-  cmd_msg_.t = msg.t;
-  cmd_msg_.u = out.u;
-  cmd_msg_.u_baseline = out.u_baseline;
-  cmd_msg_.u_adaptive = out.u_adaptive;
-  cmd_msg_.safe = false;
-  cmd_msg_.stale = false;
-  cmd_pub_.publish(cmd_msg_);
+  // The command first: the plant waits for it. Messages are built once and never touched
+  // after publishing (a nodelet in the same process gets the pointer).
+  const auto cmd = boost::make_shared<ElevatorCommand>();
+  cmd->header.stamp = msg.header.stamp;
+  cmd->step = msg.step;
+  cmd->t = msg.t;
+  cmd->u = out.u;
+  cmd->u_baseline = out.u_baseline;
+  cmd->u_adaptive = out.u_adaptive;
+  cmd->safe = false;
+  cmd->stale = false;
+  last_cmd_ = cmd;
+  cmd_pub_.publish(last_cmd_);
   reconf_->afterStep(out, msg.step, msg.t, msg.header.stamp);
 
   if (out.saturated) ++saturated_;
@@ -358,19 +386,19 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
     if (out.event->type == Event::Type::kRecovered) ++recoveries_;
     if (out.event->reset) ++resets_;
     if (out.event->type == Event::Type::kDecision) ++decision_events_;
-    event_msg_.header.stamp = msg.header.stamp;
-    toMsg(*out.event, msg.step, &event_msg_);
-    attention_pub_.publish(event_msg_);
+    const auto event = boost::make_shared<AttentionEvent>();
+    event->header.stamp = msg.header.stamp;
+    toMsg(*out.event, msg.step, event.get());
+    attention_pub_.publish(AttentionEvent::ConstPtr(event));
     if (out.event->decision != Event::Decision::kNone) {
       ++decisions_[static_cast<int>(out.event->decision)];
       char buf[160];
       std::snprintf(buf, sizeof(buf), "%s at t = %.3f s (score %.3g rad, keeping %.3g rad)",
-                    event_msg_.decision.c_str(), out.event->t, out.event->score,
-                    out.event->score_keep);
+                    event->decision.c_str(), out.event->t, out.event->score, out.event->score_keep);
       last_decision_ = buf;
       const std::string which = out.event->decision == Event::Decision::kMemory
-                                    ? event_msg_.decision + " #" + std::to_string(out.event->chosen)
-                                    : event_msg_.decision;
+                                    ? event->decision + " #" + std::to_string(out.event->chosen)
+                                    : event->decision;
       ROS_INFO(
           "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
           "residual %.3g rad against %.3g rad keeping",
@@ -384,22 +412,22 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   }
 
   const int oi = params_.run.plant.output_index;
-  status_msg_.header.stamp = msg.header.stamp;
-  status_msg_.step = msg.step;
-  status_msg_.t = msg.t;
-  for (int i = 0; i < n; ++i) {
-    status_msg_.x_ref[static_cast<size_t>(i)] = out.x_ref[i];
-    status_msg_.theta_hat[static_cast<size_t>(i)] = out.theta_hat[i];
-  }
-  status_msg_.alpha_ref = out.x_ref[oi];
-  status_msg_.e = out.e;
-  status_msg_.e_dot_est = out.e_dot;
-  status_msg_.theta_hat_0 = n > 0 ? out.theta_hat[0] : 0.0;
-  status_msg_.theta_hat_1 = n > 1 ? out.theta_hat[1] : 0.0;
-  status_msg_.theta_hat_2 = n > 2 ? out.theta_hat[2] : 0.0;
-  status_msg_.phase_active = ctl_.phaseActive();
-  status_msg_.episodes = ctl_.network().state().episodes;
-  status_pub_.publish(status_msg_);
+  const auto status = boost::make_shared<AdaptationStatus>();
+  status->header.stamp = msg.header.stamp;
+  status->step = msg.step;
+  status->t = msg.t;
+  status->mode = modeName(ctl_.mode());
+  status->x_ref.assign(out.x_ref.data(), out.x_ref.data() + n);
+  status->theta_hat.assign(out.theta_hat.data(), out.theta_hat.data() + n);
+  status->alpha_ref = out.x_ref[oi];
+  status->e = out.e;
+  status->e_dot_est = out.e_dot;
+  status->theta_hat_0 = n > 0 ? out.theta_hat[0] : 0.0;
+  status->theta_hat_1 = n > 1 ? out.theta_hat[1] : 0.0;
+  status->theta_hat_2 = n > 2 ? out.theta_hat[2] : 0.0;
+  status->phase_active = ctl_.phaseActive();
+  status->episodes = ctl_.network().state().episodes;
+  status_pub_.publish(AdaptationStatus::ConstPtr(status));
 
   if (out.event && out.event->learned && params_.save_every_episode)
     saveWeights("after a learning episode");
@@ -417,17 +445,25 @@ void MracControllerNode::answerRejected(const PlantState& msg, const std::string
                      params_.stale_policy == StalePolicy::kZero ? "zero" : "baseline");
   // The plant still gets an answer for this step (lockstep would otherwise wait), but the
   // adaptive law, attention and learning do not see the sample.
-  const double u = ctl_.safeCommand(x_last_valid_, params_.stale_policy);
-  cmd_msg_.header.stamp = msg.header.stamp;
-  cmd_msg_.step = msg.step;
-  cmd_msg_.t = msg.t;
-  cmd_msg_.u = u;
-  cmd_msg_.u_baseline = u;
-  cmd_msg_.u_adaptive = 0.0;
-  cmd_msg_.safe = true;
-  cmd_msg_.stale = false;
-  cmd_pub_.publish(cmd_msg_);
+  last_cmd_ = safeCommand(msg.header.stamp, msg.step, msg.t, false);
+  cmd_pub_.publish(last_cmd_);
   ++rejected_answers_;
+}
+
+ElevatorCommand::ConstPtr MracControllerNode::safeCommand(const ros::Time& stamp,
+                                                          std::uint64_t step, double t,
+                                                          bool stale) {
+  const double u = ctl_.safeCommand(x_last_valid_, params_.stale_policy);
+  const auto c = boost::make_shared<ElevatorCommand>();
+  c->header.stamp = stamp;
+  c->step = step;
+  c->t = t;
+  c->u = u;
+  c->u_baseline = u;
+  c->u_adaptive = 0.0;
+  c->safe = true;
+  c->stale = stale;
+  return c;
 }
 
 void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
@@ -450,19 +486,10 @@ void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
       updater_.force_update();
     }
     // No controller step: theta_hat, attention and learning stay as they are.
-    const double u = ctl_.safeCommand(x_last_valid_, params_.stale_policy);
     safe_step_ = std::max(safe_step_ + 1, last_step_ + 1);
-    ElevatorCommand c;
-    c.header.stamp = ros::Time::now();
-    c.step = safe_step_;
-    c.t = last_valid_t_ +
-          static_cast<double>(safe_step_ - last_valid_step_) * params_.run.controller.sample_time;
-    c.u = u;
-    c.u_baseline = u;
-    c.u_adaptive = 0.0;
-    c.safe = true;
-    c.stale = true;
-    cmd_pub_.publish(c);
+    const double t = last_valid_t_ + static_cast<double>(safe_step_ - last_valid_step_) *
+                                         params_.run.controller.sample_time;
+    cmd_pub_.publish(safeCommand(ros::Time::now(), safe_step_, t, true));
     ++stale_commands_;
   }
   updater_.update();
@@ -470,11 +497,7 @@ void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
 
 void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const double now = ros::Time::now().toSec();
-  const double span = diag_time_ > 0.0 ? now - diag_time_ : 0.0;
-  const double rate =
-      span > 0.0 ? static_cast<double>(states_received_ - diag_states_) / span : 0.0;
-  diag_time_ = now;
-  diag_states_ = states_received_;
+  const double rate = state_rate_.update(states_received_, now);
   if (stale_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
                  "stale input: publishing safe commands, adaptation frozen");
@@ -515,26 +538,22 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("reconfigure requests refused", reconf_->refused());
 }
 
-int runMracControllerNode() {
+std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ctx) {
   ControllerNodeParams params;
+  if (!readNodeParams(ctx, readControllerNodeParams, &params)) return nullptr;
   try {
-    params = readControllerNodeParams(readPrivateParams(), privateKeyStyle());
-  } catch (const ConfigError& e) {
-    logConfigProblems(e.problems());
-    return kExitConfigError;
-  }
-  ROS_INFO("%s", defaultsLine(params.defaults_used).c_str());
-  ros::NodeHandle nh;
-  std::unique_ptr<MracControllerNode> node;
-  try {
-    node = std::make_unique<MracControllerNode>(nh, params);
+    auto node = std::make_unique<MracControllerNode>(ctx, params);
+    node->start();
+    return node;
   } catch (const std::exception& e) {
     // Validated above; this catches a weights file changed in between or a solver refusal.
-    logConfigProblems({e.what()});
-    return kExitConfigError;
+    ctx.logConfigProblems({e.what()});
+    ctx.end(kExitConfigError);
+    return nullptr;
   }
-  return node->run();
 }
+
+int runMracControllerNode() { return spinProcessNode(makeMracControllerNode); }
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

@@ -117,6 +117,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
   p.linger = r.getBool("linger", p.linger);
+  p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
+  p.cpu_affinity = readCount(r, "cpu_affinity", p.cpu_affinity, -1, 1023);
   rejectUnknownTopLevel(tree, r,
                         {"plant",
                          "controller",
@@ -140,6 +142,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                          "queue_size",
                          "recorder_progress_topic",
                          "max_recorder_lag",
+                         "rt_priority",
+                         "cpu_affinity",
                          "cmd_timeout",
                          "diagnostic_period",
                          "linger"});
@@ -183,14 +187,16 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   requireRange(r, "stale_timeout", p.stale_timeout, 0.0, 1e6, true);
   p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
+  p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
+  p.cpu_affinity = readCount(r, "cpu_affinity", p.cpu_affinity, -1, 1023);
   // (~stale_policy was read above but missing here, so setting it was refused as unknown.)
-  rejectUnknownTopLevel(
-      tree, r,
-      {"plant", "controller", "scenario", "weights_in", "weights_out", "save_every_episode",
-       "min_command_subscribers", "min_status_subscribers", "start_timeout", "truth_buffer",
-       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period",
-       // written by the dynamic_reconfigure server (~reconfigure/*), never read
-       "reconfigure"});
+  rejectUnknownTopLevel(tree, r,
+                        {"plant", "controller", "scenario", "weights_in", "weights_out",
+                         "save_every_episode", "min_command_subscribers", "min_status_subscribers",
+                         "start_timeout", "truth_buffer", "queue_size", "stale_policy",
+                         "stale_timeout", "diagnostic_period", "rt_priority", "cpu_affinity",
+                         // written by the dynamic_reconfigure server (~reconfigure/*), never read
+                         "reconfigure"});
 
   std::vector<std::string> problems = r.problems();
   bool run_ok = false;

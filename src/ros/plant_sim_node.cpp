@@ -4,10 +4,9 @@
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
 
-#include <chrono>
+#include <boost/make_shared.hpp>
 #include <cmath>
 #include <fstream>
-#include <thread>
 
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
@@ -36,8 +35,17 @@ geometry_msgs::TransformStamped pitchTransform(const ros::Time& stamp, const std
 
 }  // namespace
 
-PlantSimNode::PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& params)
-    : nh_(nh), params_(params), sim_(params.run.plant, params.run.scenario, params.dt) {
+PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params)
+    : ctx_(ctx),
+      nh_(ctx.nh()),
+      params_(params),
+      sim_(params.run.plant, params.run.scenario, params.dt),
+      updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()) {
+  // The plant's own subscriptions go to a queue that only its loop serves: in lockstep the
+  // loop takes each command as soon as it is queued, with no other thread in between, in a
+  // process of its own and in a shared nodelet manager alike.
+  ros::NodeHandle own(nh_);
+  own.setCallbackQueue(&queue_);
   updater_.setHardwareID("plant_sim");
   updater_.add("plant", this, &PlantSimNode::diagnose);
   // ~queue_size bounds the backlog kept for each slow subscriber (a recorder under load falls
@@ -50,19 +58,16 @@ PlantSimNode::PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& par
     // subscribes to anything) sees the current time at once.
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10, true);
   }
-  cmd_sub_ = nh_.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback,
+  cmd_sub_ = own.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback,
                            this, ros::TransportHints().tcpNoDelay());
-  if (params_.clock == ClockMode::kLockstep && !params_.recorder_progress_topic.empty()) {
+  if (!params_.recorder_progress_topic.empty()) {
     progress_sub_ =
-        nh_.subscribe(params_.recorder_progress_topic, 100, &PlantSimNode::progressCallback, this,
+        own.subscribe(params_.recorder_progress_topic, 100, &PlantSimNode::progressCallback, this,
                       ros::TransportHints().tcpNoDelay());
   }
-  const int n = sim_.plant().n();
-  state_msg_.x.resize(static_cast<size_t>(n));
-  state_msg_.dt = sim_.dt();
-  state_msg_.total_steps = static_cast<std::uint64_t>(sim_.totalSteps());
-  truth_msg_.theta.resize(static_cast<size_t>(n));
   latency_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
+  if (params_.clock == ClockMode::kRealtime)
+    tick_late_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
   if (params_.clock == ClockMode::kLockstep)
     publish_wall_.assign(static_cast<size_t>(sim_.totalSteps()), 0.0);
   // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0).
@@ -124,6 +129,8 @@ void PlantSimNode::commandCallback(const ElevatorCommand::ConstPtr& msg) {
 }
 
 void PlantSimNode::progressCallback(const RecorderProgress::ConstPtr& msg) {
+  // Realtime only waits for the recorder to exist before step 0 (waitForSubscribers).
+  if (params_.clock != ClockMode::kLockstep) return;
   if (msg->topic != state_pub_.getTopic()) return;  // another plant's progress
   std::lock_guard<std::mutex> lock(mutex_);
   if (!have_progress_ || msg->step > recorded_step_) recorded_step_ = msg->step;
@@ -131,16 +138,15 @@ void PlantSimNode::progressCallback(const RecorderProgress::ConstPtr& msg) {
 }
 
 bool PlantSimNode::waitForRecorder(std::uint64_t step, std::uint64_t lag) {
-  if (!progress_sub_) return true;
+  if (!progress_sub_ || params_.clock != ClockMode::kLockstep) return true;
   const std::uint64_t needed = step > lag ? step - lag : 0;
   const auto caught_up = [&] {
     std::lock_guard<std::mutex> lock(mutex_);
     return have_progress_ && recorded_step_ >= needed;
   };
   if (step < lag || caught_up()) return true;
-  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
   const double deadline = wallNow() + params_.command_timeout;
-  while (ros::ok()) {
+  while (ctx_.ok()) {
     if (caught_up()) return true;
     const double remaining = deadline - wallNow();
     if (remaining <= 0.0) {
@@ -154,7 +160,7 @@ bool PlantSimNode::waitForRecorder(std::uint64_t step, std::uint64_t lag) {
       return false;
     }
     ++recorder_waits_;
-    queue->callAvailable(ros::WallDuration(std::min(remaining, 0.1)));
+    queue_.callAvailable(ros::WallDuration(std::min(remaining, 0.1)));
   }
   return false;
 }
@@ -167,9 +173,12 @@ bool PlantSimNode::waitForSubscribers() {
            params_.min_truth_subscribers, truth_pub_.getTopic().c_str(),
            timeout > 0.0 ? (std::to_string(timeout) + " s, ~start_timeout").c_str() : "none");
   bool warned = false;
-  while (ros::ok()) {
+  while (ctx_.ok()) {
+    // A recorder advertises its progress once it has subscribed to everything: in a nodelet
+    // manager its subscriptions share the connection of the controller's and are not counted.
     if (static_cast<int>(state_pub_.getNumSubscribers()) >= params_.min_state_subscribers &&
-        static_cast<int>(truth_pub_.getNumSubscribers()) >= params_.min_truth_subscribers)
+        static_cast<int>(truth_pub_.getNumSubscribers()) >= params_.min_truth_subscribers &&
+        (!progress_sub_ || progress_sub_.getNumPublishers() > 0))
       return true;
     const double waited = wallNow() - start;
     if (timeout > 0.0 && !warned && waited > 0.5 * timeout) {
@@ -195,6 +204,8 @@ std::string PlantSimNode::missingPeers() const {
                   " (~min_state_subscribers: the controller, recorders and watchers), " +
                   std::to_string(truth_pub_.getNumSubscribers()) + " of " +
                   std::to_string(params_.min_truth_subscribers) + " on " + truth_pub_.getTopic();
+  if (progress_sub_ && progress_sub_.getNumPublishers() == 0)
+    s += "; no recorder publishes " + progress_sub_.getTopic();
   if (cmd_sub_.getNumPublishers() == 0) {
     s += "; no node publishes " + cmd_sub_.getTopic() +
          ": the controller is not running (one that refuses its parameters exits with code 2 "
@@ -213,24 +224,30 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   const Vec& theta = sim_.theta();
   const int out = sim_.plant().outputIndex();
 
-  truth_msg_.header.stamp = stamp;
-  truth_msg_.step = k;
-  for (int i = 0; i < theta.size(); ++i) truth_msg_.theta[static_cast<size_t>(i)] = theta[i];
-  truth_msg_.theta_scale = theta.size() > 0 ? theta[0] : 0.0;
-  truth_pub_.publish(truth_msg_);
+  // Each message is built once and never touched after publishing: subscribers in the same
+  // process (nodelets) get the pointer, without serialisation or copy.
+  const auto truth = boost::make_shared<PlantTruth>();
+  truth->header.stamp = stamp;
+  truth->step = k;
+  truth->theta.assign(theta.data(), theta.data() + theta.size());
+  truth->theta_scale = theta.size() > 0 ? theta[0] : 0.0;
+  truth_pub_.publish(PlantTruth::ConstPtr(truth));
 
-  state_msg_.header.stamp = stamp;
-  state_msg_.step = k;
-  state_msg_.t = sim_.time();
-  for (int i = 0; i < x.size(); ++i) state_msg_.x[static_cast<size_t>(i)] = x[i];
-  state_msg_.e_I = x.size() > 0 ? x[0] : 0.0;
-  state_msg_.alpha = x[out];
-  state_msg_.q = x.size() > 2 ? x[2] : 0.0;
-  state_msg_.theta_pitch = theta_pitch_;
-  state_msg_.r = sim_.reference();
-  state_msg_.elevator = applied_u_;
+  const auto state = boost::make_shared<PlantState>();
+  state->header.stamp = stamp;
+  state->step = k;
+  state->t = sim_.time();
+  state->dt = sim_.dt();
+  state->total_steps = static_cast<std::uint64_t>(sim_.totalSteps());
+  state->x.assign(x.data(), x.data() + x.size());
+  state->e_I = x.size() > 0 ? x[0] : 0.0;
+  state->alpha = x[out];
+  state->q = x.size() > 2 ? x[2] : 0.0;
+  state->theta_pitch = theta_pitch_;
+  state->r = sim_.reference();
+  state->elevator = applied_u_;
   if (params_.clock == ClockMode::kLockstep) publish_wall_[static_cast<size_t>(k)] = wallNow();
-  state_pub_.publish(state_msg_);
+  state_pub_.publish(PlantState::ConstPtr(state));
 
   if (k % static_cast<std::uint64_t>(params_.tf_decimation) == 0) {
     std::vector<geometry_msgs::TransformStamped> tfs;
@@ -269,13 +286,12 @@ int PlantSimNode::runLockstep() {
     clock_pub_.publish(c);
   }
   if (!waitForSubscribers()) return kExitRuntimeError;
-  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
   wall_start_ = wallNow();
   rosgraph_msgs::Clock clock_msg;
   const auto lag = static_cast<std::uint64_t>(params_.max_recorder_lag);
   const auto clock_every = static_cast<std::uint64_t>(params_.clock_decimation);
   const auto total = static_cast<std::uint64_t>(sim_.totalSteps());
-  while (ros::ok() && !sim_.done()) {
+  while (ctx_.ok() && !sim_.done()) {
     const auto k = static_cast<std::uint64_t>(sim_.step());
     // Back-pressure: a recorder that falls too far behind would hold an ever larger backlog
     // in this process, lost if the run ends before it is sent.
@@ -294,7 +310,7 @@ int PlantSimNode::runLockstep() {
         params_.resend_interval > 0.0 ? wallNow() + params_.resend_interval : deadline;
     double u = 0.0;
     bool answered = false;
-    while (ros::ok()) {
+    while (ctx_.ok()) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         if (have_cmd_ && cmd_step_ == k) {
@@ -327,7 +343,7 @@ int PlantSimNode::runLockstep() {
         resend_at = now + params_.resend_interval;
       }
       // Blocks until a callback is queued (or the bounded wait ends): no polling delay.
-      queue->callAvailable(ros::WallDuration(std::min(std::min(deadline, resend_at) - now, 0.1)));
+      queue_.callAvailable(ros::WallDuration(std::min(std::min(deadline, resend_at) - now, 0.1)));
     }
     if (!answered) break;  // shutdown requested
     advance(u);
@@ -344,7 +360,7 @@ int PlantSimNode::runLockstep() {
 }
 
 void PlantSimNode::linger() {
-  if (!params_.linger || !completed_ || !ros::ok()) return;
+  if (!params_.linger || !completed_ || !ctx_.ok()) return;
   // Leave every topic (a run monitor sees the plant go, as if it had exited) but stay alive,
   // so that a launch file can mark this node required without its normal end ending the launch.
   state_pub_.shutdown();
@@ -353,28 +369,42 @@ void PlantSimNode::linger() {
   cmd_sub_.shutdown();
   progress_sub_.shutdown();
   ROS_INFO("plant_sim: run complete, topics closed; staying alive until shut down (~linger)");
-  while (ros::ok()) ros::WallDuration(0.05).sleep();
+  while (ctx_.ok()) ros::WallDuration(0.05).sleep();
 }
 
 int PlantSimNode::runRealtime() {
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
   if (!waitForSubscribers()) return kExitRuntimeError;
-  using Clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(1.0 / params_.rate));
+  // The tick thread (this one): optional SCHED_FIFO priority and CPU affinity; a refusal is a
+  // warning and normal scheduling.
+  const SchedulingResult sched = applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity);
+  if (!sched.warnings.empty()) ROS_WARN("%s", sched.warnings.c_str());
+  scheduling_ = sched.describe();
+  // Absolute deadlines (clock_nanosleep TIMER_ABSTIME): a late tick does not shift the later
+  // ones, so 60 s of ticks take 60 s.
+  TickSource ticks(1.0 / params_.rate);
   wall_start_ = wallNow();
-  auto next = Clock::now();
+  ticks.start();
   publishSample(ros::Time(ros::WallTime::now().toSec()));
   // A controller that subscribed and then died (or never answers) would leave the plant
   // holding trim through the whole scenario: give up unless one valid command arrives.
   const double first_cmd_deadline =
       params_.start_timeout > 0.0 ? wall_start_ + params_.start_timeout : 0.0;
-  while (ros::ok()) {
-    next += period;
-    std::this_thread::sleep_until(next);
+  while (ctx_.ok()) {
+    // This thread takes the commands itself (no spinner thread in between) until the answer
+    // to the current step is in or the tick is nearly due (kept 50 us for the wake-up).
+    const std::int64_t serve_until = ticks.nextDeadlineNs() - 50000;
+    while (ctx_.ok()) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (have_cmd_ && cmd_step_ == static_cast<std::uint64_t>(sim_.step())) break;
+      }
+      const std::int64_t left = serve_until - monotonicNs();
+      if (left <= 0) break;
+      queue_.callAvailable(ros::WallDuration(static_cast<double>(left) * 1e-9));
+    }
+    tick_late_us_.push_back(1e6 * ticks.waitNext());
     // Behind schedule the ticks run back to back until the simulation has caught up.
-    if (Clock::now() - next > period) ++late_ticks_;
+    if (ticks.late()) ++late_ticks_;
     double u = 0.0;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -415,15 +445,11 @@ int PlantSimNode::runRealtime() {
   bool gave_up = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    gave_up = !have_cmd_ && ros::ok() && !sim_.done();
+    gave_up = !have_cmd_ && ctx_.ok() && !sim_.done();
   }
   finish(sim_.done());
-  if (gave_up) {
-    spinner.stop();
-    return kExitRuntimeError;
-  }
+  if (gave_up) return kExitRuntimeError;
   linger();
-  spinner.stop();
   return 0;
 }
 
@@ -449,22 +475,16 @@ void PlantSimNode::finish(bool completed) {
   if (completed && params_.shutdown_grace > 0.0) {
     // Subscribers such as rosbag may still have the last samples in their socket buffers;
     // keep the connections open briefly so nothing is cut off when this node exits.
-    ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
     const double end = wallNow() + params_.shutdown_grace;
-    while (ros::ok() && wallNow() < end) queue->callAvailable(ros::WallDuration(0.01));
+    while (ctx_.ok() && wallNow() < end) queue_.callAvailable(ros::WallDuration(0.01));
   }
 }
 
 void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(mutex_);
   const double now = wallNow();
-  const double span = diag_wall_ > 0.0 ? now - diag_wall_ : 0.0;
-  const double step_rate = span > 0.0 ? static_cast<double>(sim_.step() - diag_steps_) / span : 0.0;
-  const double cmd_rate =
-      span > 0.0 ? static_cast<double>(commands_received_ - diag_cmds_) / span : 0.0;
-  diag_wall_ = now;
-  diag_steps_ = sim_.step();
-  diag_cmds_ = commands_received_;
+  const double step_rate = step_rate_.update(sim_.step(), now);
+  const double cmd_rate = cmd_rate_.update(commands_received_, now);
   const double cmd_age = have_cmd_ ? now - last_cmd_wall_ : -1.0;
   if (params_.clock == ClockMode::kRealtime && in_trim_ && have_cmd_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
@@ -512,20 +532,16 @@ RunReport PlantSimNode::report() const {
   r.resent_states = resent_;
   r.recorder_waits = recorder_waits_;
   r.latency = summarizeLatency(latency_us_);
+  r.scheduling = scheduling_;
+  r.tick_late = summarizeLatency(tick_late_us_);
   return r;
 }
 
 int runPlantSimNode() {
+  const NodeContext ctx = NodeContext::forProcess();
   PlantNodeParams params;
-  try {
-    params = readPlantNodeParams(readPrivateParams(), privateKeyStyle());
-  } catch (const ConfigError& e) {
-    logConfigProblems(e.problems());
-    return kExitConfigError;
-  }
-  ROS_INFO("%s", defaultsLine(params.defaults_used).c_str());
-  ros::NodeHandle nh;
-  PlantSimNode node(nh, params);
+  if (!readNodeParams(ctx, readPlantNodeParams, &params)) return processExitCode();
+  PlantSimNode node(ctx, params);
   return node.run();
 }
 

@@ -1,9 +1,5 @@
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
-#include <ros/ros.h>
-
-#include <cstdio>
-
 namespace preadaptive_mrac {
 namespace ros1 {
 
@@ -33,34 +29,6 @@ ParamValue fromXmlRpc(const XmlRpc::XmlRpcValue& v) {
     default:
       return ParamValue();
   }
-}
-
-ParamValue readPrivateParams() {
-  XmlRpc::XmlRpcValue v;
-  // The node's private namespace is its resolved name; getParam on it returns the subtree.
-  if (!ros::param::get(ros::this_node::getName(), v)) return ParamValue::makeMap();
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct) return ParamValue::makeMap();
-  return fromXmlRpc(v);
-}
-
-KeyStyle privateKeyStyle() {
-  KeyStyle s;
-  s.root = ros::this_node::getName() + "/";
-  s.separator = '/';
-  return s;
-}
-
-void logConfigProblems(const std::vector<std::string>& problems) {
-  ROS_FATAL("%s: refusing to start, %zu parameter problem(s):", ros::this_node::getName().c_str(),
-            problems.size());
-  for (const auto& p : problems) ROS_FATAL("  %s", p.c_str());
-}
-
-void printAfterShutdown(const std::string& line, bool error) {
-  std::FILE* f = error ? stderr : stdout;
-  std::fprintf(f, "[%s] %s: %s\n", error ? "ERROR" : " INFO", ros::this_node::getName().c_str(),
-               line.c_str());
-  std::fflush(f);
 }
 
 }  // namespace ros1

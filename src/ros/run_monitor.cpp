@@ -1,14 +1,12 @@
 #include "preadaptive_mrac/ros/run_monitor.hpp"
 
-#include <ros/callback_queue.h>
-
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
 
-RunMonitor::RunMonitor(const ros::NodeHandle& nh, const std::vector<std::string>& topics) {
-  ros::NodeHandle h(nh);
+RunMonitor::RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics) : ctx_(ctx) {
+  ros::NodeHandle h(ctx.nh());
   watches_.resize(topics.size());
   for (size_t i = 0; i < topics.size(); ++i) {
     Watch* w = &watches_[i];
@@ -22,42 +20,45 @@ RunMonitor::RunMonitor(const ros::NodeHandle& nh, const std::vector<std::string>
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
+  // Polled on the same queue as the subscriptions, so the watches need no lock.
+  timer_ =
+      h.createWallTimer(ros::WallDuration(0.01), [this](const ros::WallTimerEvent&) { check(); });
 }
 
-int RunMonitor::run() {
-  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
-  while (ros::ok()) {
-    queue->callAvailable(ros::WallDuration(0.01));
-    bool all_done = true;
-    for (auto& w : watches_) {
-      const bool has_pub = w.sub.getNumPublishers() > 0;
-      if (has_pub) w.seen_publisher = true;
-      if (w.seen_publisher && !has_pub) {
-        if (!w.completed) {
-          ROS_ERROR("run_monitor: the plant on %s left at step %llu of %llu", w.topic.c_str(),
-                    static_cast<unsigned long long>(w.last_step),
-                    static_cast<unsigned long long>(w.total));
-          return kExitRuntimeError;
-        }
-      } else {
-        all_done = false;
+void RunMonitor::check() {
+  if (done_) return;
+  bool all_done = true;
+  for (auto& w : watches_) {
+    const bool has_pub = w.sub.getNumPublishers() > 0;
+    if (has_pub) w.seen_publisher = true;
+    if (w.seen_publisher && !has_pub) {
+      if (!w.completed) {
+        ROS_ERROR("run_monitor: the plant on %s left at step %llu of %llu", w.topic.c_str(),
+                  static_cast<unsigned long long>(w.last_step),
+                  static_cast<unsigned long long>(w.total));
+        done_ = true;
+        timer_.stop();
+        ctx_.end(kExitRuntimeError);
+        return;
       }
-    }
-    if (all_done) {
-      ROS_INFO("run_monitor: all %zu plant(s) finished", watches_.size());
-      return 0;
+    } else {
+      all_done = false;
     }
   }
-  return 0;
+  if (all_done) {
+    ROS_INFO("run_monitor: all %zu plant(s) finished", watches_.size());
+    done_ = true;
+    timer_.stop();
+    ctx_.end(0);
+  }
 }
 
-int runRunMonitorNode() {
-  ros::NodeHandle pnh("~");
+std::unique_ptr<RunMonitor> makeRunMonitor(const NodeContext& ctx) {
   XmlRpc::XmlRpcValue v;
   std::vector<std::string> topics;
-  const std::string key = pnh.resolveName("state_topics");
-  bool ok = pnh.getParam("state_topics", v) && v.getType() == XmlRpc::XmlRpcValue::TypeArray &&
-            v.size() > 0;
+  const std::string key = ctx.pnh().resolveName("state_topics");
+  bool ok = ctx.pnh().getParam("state_topics", v) &&
+            v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() > 0;
   if (ok) {
     for (int i = 0; i < v.size(); ++i) {
       if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
@@ -68,12 +69,19 @@ int runRunMonitorNode() {
     }
   }
   if (!ok) {
-    logConfigProblems({key + ": expected a non-empty list of PlantState topic names"});
-    return kExitConfigError;
+    ctx.logConfigProblems({key + ": expected a non-empty list of PlantState topic names"});
+    ctx.end(kExitConfigError);
+    return nullptr;
   }
-  RunMonitor m(ros::NodeHandle(), topics);
-  return m.run();
+  return std::make_unique<RunMonitor>(ctx, topics);
 }
+
+void RunMonitor::finish() {
+  timer_.stop();
+  for (auto& w : watches_) w.sub.shutdown();
+}
+
+int runRunMonitorNode() { return spinProcessNode(makeRunMonitor); }
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

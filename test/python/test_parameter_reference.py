@@ -62,7 +62,7 @@ def node_keys():
     rec = read('src/ros/bag_recorder.cpp')
     keys['bag_recorder_node'] = set(re.findall(r'pnh\.(?:param<[^>]+>|getParam)\("(\w+)"', rec))
     keys['run_monitor_node'] = set(
-        re.findall(r'pnh\.getParam\("(\w+)"', read('src/ros/run_monitor.cpp'))
+        re.findall(r'pnh\(?\)?\.getParam\("(\w+)"', read('src/ros/run_monitor.cpp'))
     )
     keys['viz_markers'] = set(
         re.findall(r"get_param\('~(\w+)'", read('src/preadaptive_mrac/viz/markers.py'))

@@ -14,17 +14,12 @@ faults.test) so it can SIGKILL and restart them:
 Every wait is bounded.
 """
 import os
-import signal
-import subprocess
 import sys
-import threading
 import time
-import unittest
 
 import rospy
 
-from rostest_util import wait_for
-from catkin.find_in_workspaces import find_in_workspaces
+from rostest_util import NodeProcessTest, read_episodes, wait_for
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
 from preadaptive_mrac.msg import AdaptationStatus, ElevatorCommand, PlantState
@@ -32,19 +27,10 @@ from preadaptive_mrac.msg import AdaptationStatus, ElevatorCommand, PlantState
 PKG = "preadaptive_mrac"
 
 
-def read_episodes(path):
-    with open(path) as f:
-        for line in f:
-            if line.startswith("episodes:"):
-                return int(line.split(":")[1])
-    return None
-
-
-class FaultsTest(unittest.TestCase):
+class FaultsTest(NodeProcessTest):
     def setUp(self):
-        self.lock = threading.Lock()
+        super().setUp()
         self.cmds, self.states, self.status, self.diag = [], [], [], []
-        self.procs = []
         rospy.Subscriber(
             "controller/elevator_cmd",
             ElevatorCommand,
@@ -70,42 +56,14 @@ class FaultsTest(unittest.TestCase):
         if os.path.exists(self.weights):
             os.remove(self.weights)
 
-    def tearDown(self):
-        for p in self.procs:
-            if p.poll() is None:
-                p.kill()
-                p.wait(10)
-
-    def add(self, lst, m):
-        with self.lock:
-            lst.append((time.monotonic(), m))
-
     def on_diag(self, msg):
         for s in msg.status:
             if "mrac_controller" in s.name:
                 self.add(self.diag, s)
 
-    def after(self, lst, t0):
-        with self.lock:
-            return [m for t, m in lst if t > t0]
-
     @staticmethod
     def value(status, key):
         return next((kv.value for kv in status.values if kv.key == key), None)
-
-    def start(self, node, name):
-        # The devel space's binary (rosrun would ask which one when build dirs sit in the
-        # source tree); started directly, so SIGKILL hits the node itself.
-        exe = find_in_workspaces(["libexec"], project=PKG, path=node, first_match_only=True)
-        self.assertTrue(exe, "%s not found in the workspace" % node)
-        p = subprocess.Popen([exe[0], "__name:=" + name])
-        self.procs.append(p)
-        return p
-
-    def kill(self, p):
-        p.send_signal(signal.SIGKILL)
-        p.wait(10)
-        return time.monotonic()
 
     def test_controller_and_plant_restarts(self):
         ctl = self.start("mrac_controller_node", "mrac_controller")

@@ -201,18 +201,39 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   ros::AsyncSpinner spinner(1);
   spinner.start();
 
-  // Wait (bounded) for the status of the last step: the controller publishes it last.
+  // Wait (bounded) for the last step's state, command and status. The controller publishes
+  // the status last, but each topic has a connection of its own and the publisher's outgoing
+  // queues are served independently: with a fast (nodelet) pair, the last status can arrive
+  // while earlier commands are still in the command connection's queue.
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_);
   bool done = false;
   while (ros::ok() && ros::WallTime::now() < deadline) {
     {
       std::lock_guard<std::mutex> l(rec.m);
-      done = rec.sized && rec.total > 0 && rec.status_seen[rec.total - 1] > 0;
+      done = rec.sized && rec.total > 0 && rec.status_seen[rec.total - 1] > 0 &&
+             rec.cmd_seen[rec.total - 1] > 0 && rec.state_seen[rec.total - 1] > 0 &&
+             rec.truth_count >= static_cast<std::int64_t>(rec.total);
     }
     if (done) break;
     ros::WallDuration(0.05).sleep();
   }
-  ASSERT_TRUE(done) << "no status for the last step within " << timeout_ << " s";
+  ASSERT_TRUE(done) << "no state, command, status and truth for the last step within " << timeout_
+                    << " s";
+  // Attention events have a connection of their own too and their number is not known here:
+  // take them until none has arrived for 0.5 s (bounded by the same deadline).
+  std::size_t events_seen = 0;
+  ros::WallTime quiet_since = ros::WallTime::now();
+  while (ros::ok() && ros::WallTime::now() < deadline &&
+         (ros::WallTime::now() - quiet_since).toSec() < 0.5) {
+    {
+      std::lock_guard<std::mutex> l(rec.m);
+      if (rec.events.size() != events_seen) {
+        events_seen = rec.events.size();
+        quiet_since = ros::WallTime::now();
+      }
+    }
+    ros::WallDuration(0.05).sleep();
+  }
   spinner.stop();
 
   // --- the batch CLI, same scenario, mode, seed and dt

@@ -1,7 +1,12 @@
 """Helpers shared by the package's Python rostest checks."""
+import signal
+import subprocess
+import threading
 import time
+import unittest
 
 import rospy
+from catkin.find_in_workspaces import find_in_workspaces
 
 
 def wait_for(pred, timeout, what, poll=0.002):
@@ -12,3 +17,51 @@ def wait_for(pred, timeout, what, poll=0.002):
             return
         time.sleep(poll)
     raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
+
+
+def read_episodes(path):
+    """The `episodes:` count of a weights file, or None."""
+    with open(path) as f:
+        for line in f:
+            if line.startswith("episodes:"):
+                return int(line.split(":")[1])
+    return None
+
+
+class NodeProcessTest(unittest.TestCase):
+    """A test that starts the package's nodes itself (so it can SIGKILL and restart them) and
+    keeps what it receives with the monotonic time of arrival."""
+
+    PKG = "preadaptive_mrac"
+
+    def setUp(self):
+        self.lock = threading.Lock()
+        self.procs = []
+
+    def tearDown(self):
+        for p in self.procs:
+            if p.poll() is None:
+                p.kill()
+                p.wait(10)
+
+    def add(self, lst, m):
+        with self.lock:
+            lst.append((time.monotonic(), m))
+
+    def after(self, lst, t0):
+        with self.lock:
+            return [m for t, m in lst if t > t0]
+
+    def start(self, node, name):
+        # The devel space's binary (rosrun would ask which one when build dirs sit in the
+        # source tree); started directly, so SIGKILL hits the node itself.
+        exe = find_in_workspaces(["libexec"], project=self.PKG, path=node, first_match_only=True)
+        self.assertTrue(exe, "%s not found in the workspace" % node)
+        p = subprocess.Popen([exe[0], "__name:=" + name])
+        self.procs.append(p)
+        return p
+
+    def kill(self, p):
+        p.send_signal(signal.SIGKILL)
+        p.wait(10)
+        return time.monotonic()

@@ -3,6 +3,8 @@
 /// problem at once, each named by its fully resolved ROS key.
 
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,7 @@
 #include "preadaptive_mrac/io/yaml_params.hpp"
 #include "preadaptive_mrac/ros/latency_stats.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace pm = preadaptive_mrac;
 using pm::ros1::ClockMode;
@@ -246,14 +250,75 @@ TEST(LatencyStats, ReportJson) {
   r.clock = "realtime";
   r.scenario = "scenario\"1";
   r.steps = 10;
+  r.total_steps = 12;
+  r.wall_time_s = 0.25;
   r.stale_steps = 2;
+  r.late_ticks = 3;
+  r.scheduling = "normal";
   r.latency = pm::ros1::summarizeLatency({1.0, 2.0, 3.0});
-  const std::string j = pm::ros1::runReportJson(r);
-  EXPECT_NE(j.find("\"clock\": \"realtime\""), std::string::npos) << j;
-  EXPECT_NE(j.find("\"scenario\": \"scenario\\\"1\""), std::string::npos) << j;
-  EXPECT_NE(j.find("\"stale_steps\": 2"), std::string::npos) << j;
-  EXPECT_NE(j.find("\"p50\": 2"), std::string::npos) << j;
-  EXPECT_EQ(j.find('\n'), std::string::npos);
+  const std::string text = pm::ros1::runReportJson(r);
+  EXPECT_EQ(text.find('\n'), std::string::npos);
+  const auto j = nlohmann::json::parse(text);
+  EXPECT_EQ(j.at("clock"), "realtime");
+  EXPECT_EQ(j.at("scenario"), "scenario\"1");
+  EXPECT_EQ(j.at("steps"), 10);
+  EXPECT_EQ(j.at("total_steps"), 12);
+  EXPECT_DOUBLE_EQ(j.at("wall_time_s").get<double>(), 0.25);
+  EXPECT_EQ(j.at("stale_steps"), 2);
+  EXPECT_EQ(j.at("late_ticks"), 3);
+  EXPECT_EQ(j.at("completed"), false);
+  EXPECT_EQ(j.at("scheduling"), "normal");
+  EXPECT_DOUBLE_EQ(j.at("latency_us").at("p50").get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(j.at("latency_us").at("p99").get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j.at("latency_us").at("max").get<double>(), 3.0);
+  // launch_checked --expect-report looks for this text.
+  r.completed = true;
+  EXPECT_NE(pm::ros1::runReportJson(r).find("\"completed\":true"), std::string::npos);
+}
+
+TEST(TickSource, DeadlinesDoNotDriftAfterALateWakeUp) {
+  pm::ros1::TickSource ticks(0.001);
+  ticks.start();
+  const double t0 = ticks.deadline();
+  ticks.waitNext();
+  EXPECT_NEAR(ticks.deadline() - t0, 0.001, 1e-9);
+  // Stall for 5 periods: the next ticks are behind schedule and run at once, each reporting
+  // how late it is, and the deadlines stay on the grid start + k period.
+  const std::int64_t stall_until = pm::ros1::monotonicNs() + 5000000;
+  while (pm::ros1::monotonicNs() < stall_until) {
+  }
+  const double late = ticks.waitNext();
+  EXPECT_GE(late, 0.003);
+  EXPECT_TRUE(ticks.late());
+  EXPECT_NEAR(ticks.deadline() - t0, 0.002, 1e-9);
+  for (int k = 3; k <= 10; ++k) ticks.waitNext();
+  EXPECT_EQ(ticks.ticks(), 10);
+  EXPECT_NEAR(ticks.deadline() - t0, 0.010, 1e-9);
+  // Having waited for tick 10, the thread cannot be earlier than its deadline.
+  EXPECT_GE(static_cast<double>(pm::ros1::monotonicNs()) * 1e-9, ticks.deadline() - 1e-9);
+}
+
+TEST(TickSource, SchedulingRefusalsAreWarningsNamingTheKey) {
+  // Nothing asked: nothing changed, no warning.
+  const auto none = pm::ros1::applyRealtimeScheduling(0, -1);
+  EXPECT_FALSE(none.fifo);
+  EXPECT_FALSE(none.pinned);
+  EXPECT_EQ(none.warnings, "");
+  EXPECT_EQ(none.describe(), "normal");
+  // A CPU that does not exist: refused with a warning naming ~cpu_affinity, no exception.
+  const auto bad = pm::ros1::applyRealtimeScheduling(0, 1023);
+  EXPECT_FALSE(bad.pinned);
+  EXPECT_NE(bad.warnings.find("~cpu_affinity 1023"), std::string::npos) << bad.warnings;
+  // SCHED_FIFO: either granted (root or an rtprio limit) or a warning naming ~rt_priority.
+  const auto fifo = pm::ros1::applyRealtimeScheduling(1, -1);
+  if (fifo.fifo) {
+    EXPECT_EQ(fifo.describe(), "SCHED_FIFO 1");
+    sched_param sp{};
+    sp.sched_priority = 0;
+    ASSERT_EQ(pthread_setschedparam(pthread_self(), SCHED_OTHER, &sp), 0);
+  } else {
+    EXPECT_NE(fifo.warnings.find("~rt_priority 1"), std::string::npos) << fifo.warnings;
+  }
 }
 
 // Issue 10, no silent defaults: every optional key a node fills in is listed (resolved name and

@@ -73,6 +73,26 @@ FAKE_LOG=$W/required.log expect "required node refuses a key: exit 2, key named"
   '^launch_checked:   \[FATAL\]   /mrac_controller/controller/lqr/R: expected a number'
 FAKE_LOG=$W/required.log expect "the dead node is named" 2 'node \[mrac_controller-3\] died with exit code 2'
 
+# 2b. nodelet shape: the controller nodelet refuses a key, the required manager ends with 2,
+# and a loader that was still loading the plant dies first (255): the refusal's code wins.
+cat >"$W/nodelet.log" <<EOF
+process[pmrac_manager-2]: started with pid [100]
+process[plant_sim-3]: started with pid [101]
+process[mrac_controller-4]: started with pid [102]
+${E}[31m[FATAL] [1795395366.579974377]: /mrac_controller: refusing to start, 1 parameter problem(s):${E}[0m
+${E}[31m[FATAL] [1795395366.580006014]:   /mrac_controller/controller/robust/cl_gain: expected a finite number, got nan${E}[0m
+${E}[31m[FATAL] [1795395366.680006014]: Failed to load nodelet of type preadaptive_mrac/PlantSim${E}[0m
+${E}[31m[plant_sim-3] process has died [pid 101, exit code 255, cmd /usr/lib/nodelet/nodelet load preadaptive_mrac/PlantSim /pmrac_manager __name:=plant_sim].${E}[0m
+${E}[31m================================================================================REQUIRED process [pmrac_manager-2] has died!
+process has died [pid 100, exit code 2, cmd /x/pmrac_manager __name:=pmrac_manager __log:=$L/pmrac_manager-2.log].
+log file: $L/pmrac_manager-2*.log
+Initiating shutdown!
+================================================================================${E}[0m
+[mrac_controller-4] killing on exit
+EOF
+FAKE_LOG=$W/nodelet.log expect "nodelet refuses a key, a loader dies first: exit 2" 2 \
+  '^launch_checked:   \[FATAL\]   /mrac_controller/controller/robust/cl_gain: expected a finite'
+
 # 3. a node that is not required dies (3), then the required plant ends cleanly.
 cat >"$W/notrequired.log" <<EOF
 ${E}[31m[mrac_controller-3] process has died [pid 101, exit code 3, cmd /x/mrac_controller_node].${E}[0m

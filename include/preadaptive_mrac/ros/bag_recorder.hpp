@@ -12,8 +12,12 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/ros/node_context.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -21,9 +25,14 @@ namespace ros1 {
 /// \brief Parameters of bag_recorder_node (private namespace).
 struct BagRecorderParams {
   std::vector<std::string> topics;  ///< ~topics: names, resolved in the node's namespace
-  std::string output;               ///< ~output: bag path ("" = use ~output_prefix)
-  std::string output_prefix;        ///< ~output_prefix: <prefix>_YYYY-MM-DD-HH-MM-SS.bag
-  int progress_every = 100;         ///< ~progress_every: publish ~progress every N states
+  /// ~types: optional, one per topic: the message type ("preadaptive_mrac/PlantState", ...,
+  /// "tf2_msgs/TFMessage") to subscribe with that type, or "" for any type. A typed
+  /// subscriber in the same process (nodelet manager) gets the publisher's pointer; an untyped
+  /// one (topic_tools::ShapeShifter) makes the publishing thread serialise every message.
+  std::vector<std::string> types;
+  std::string output;         ///< ~output: bag path ("" = use ~output_prefix)
+  std::string output_prefix;  ///< ~output_prefix: <prefix>_YYYY-MM-DD-HH-MM-SS.bag
+  int progress_every = 100;   ///< ~progress_every: publish ~progress every N states
   /// ~split_size_mb: start a new bag when the current one reaches this size [MB]; 0 = never.
   double split_size_mb = 0.0;
   /// ~split_duration: start a new bag after this wall time [s] of recording; 0 = never.
@@ -44,16 +53,32 @@ struct BagRecorderParams {
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
-  BagRecorder(const ros::NodeHandle& nh, const BagRecorderParams& params);
-  /// \brief Spin until shutdown, then close the bag. Returns 0.
-  int run();
+  /// Callbacks run wherever ctx.nh()'s queue is served (one at a time: a single-threaded
+  /// spinner, or a nodelet's single-threaded queue).
+  BagRecorder(const NodeContext& ctx, const BagRecorderParams& params);
+  /// \brief finish().
+  ~BagRecorder();
+  /// \brief Unsubscribe, close the bag (renaming `.active` away) and print what it holds.
+  /// Idempotent.
+  void finish();
   /// \brief The bag being written (without the `.active` suffix it carries while open).
   const std::string& path() const { return path_; }
 
  private:
   void callback(const std::string& topic,
                 const ros::MessageEvent<topic_tools::ShapeShifter const>& ev);
-  void reportProgress(const std::string& topic, const topic_tools::ShapeShifter& msg);
+  /// \brief A typed topic: written at its header stamp (or receipt time without a header).
+  template <class M>
+  void typedCallback(const std::string& topic, const ros::MessageEvent<M const>& ev);
+  /// \brief Subscribe `resolved` with type M (typedCallback).
+  template <class M>
+  ros::Subscriber subscribeTyped(const std::string& resolved);
+  /// \brief Write one message (any type rosbag can write), count it, report progress for a
+  /// PlantState (step, total), split when due.
+  template <class M>
+  void record(const std::string& topic, ros::Time t, const M& msg,
+              const boost::shared_ptr<ros::M_string>& connection_header, const PlantState* state);
+  void reportProgress(const std::string& topic, const PlantState& st);
   /// \brief Whether a message type's definition starts with `Header header` (cached).
   bool hasHeader(const topic_tools::ShapeShifter& msg);
   /// \brief Open bag number `index_` as `<path>.active` (like rosbag record), so a crash
@@ -64,8 +89,10 @@ class BagRecorder {
   /// \brief Whether the split size or duration is reached (then the next bag is opened).
   bool splitDue() const;
 
+  NodeContext ctx_;
   ros::NodeHandle nh_;
   BagRecorderParams params_;
+  bool closed_ = false;
   std::string single_;  ///< the bag's path when not splitting (~output as given)
   std::string base_;    ///< path of the split series, without `.bag`
   std::string path_;    ///< the bag being written (final name, without `.active`)
@@ -80,7 +107,11 @@ class BagRecorder {
   std::vector<std::uint8_t> buf_;
 };
 
-/// \brief main() after ros::init(): read the parameters, record until shutdown.
+/// \brief Read ~ (every problem at once: ROS_FATAL each, ctx.end(kExitConfigError), nullptr)
+/// and open the bag (failure: ctx.end(kExitRuntimeError), nullptr). Node and nodelet.
+std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx);
+
+/// \brief main() after ros::init(): makeBagRecorder, spin until shutdown, close the bag.
 int runBagRecorderNode();
 
 }  // namespace ros1

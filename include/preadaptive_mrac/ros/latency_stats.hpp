@@ -38,9 +38,11 @@ struct RunReport {
   std::int64_t resent_states = 0;   ///< lockstep: states published again for want of an answer
   std::int64_t recorder_waits = 0;  ///< lockstep: waits (<= 0.1 s each) for a lagging recorder
   LatencySummary latency;           ///< state publication -> command arrival [us], wall clock
+  std::string scheduling;           ///< realtime: the tick thread's ("normal", "SCHED_FIFO 80")
+  LatencySummary tick_late;         ///< realtime: wake-up after each tick's deadline [us]
 };
 
-/// \brief One JSON object (single line) for a report.
+/// \brief One JSON object (single line, keys in this order) for a report.
 std::string runReportJson(const RunReport& r);
 
 }  // namespace ros1

@@ -19,7 +19,9 @@
 #include "preadaptive_mrac/PlantTruth.h"
 #include "preadaptive_mrac/core/controller.hpp"
 #include "preadaptive_mrac/core/input_guard.hpp"
+#include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/rate_meter.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -39,12 +41,16 @@ void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg);
 class MracControllerNode {
  public:
   /// \brief Builds the controller (K, P at start-up), loads ~weights_in, advertises.
-  MracControllerNode(const ros::NodeHandle& nh, const ControllerNodeParams& params);
+  MracControllerNode(const NodeContext& ctx, const ControllerNodeParams& params);
   ~MracControllerNode();
 
-  /// \brief Wait for the subscribers, subscribe, spin until shutdown, save ~weights_out.
-  /// Returns the process exit code.
-  int run();
+  /// \brief Does not block: once the wanted subscribers are connected (polled by a timer),
+  /// subscribe and start the staleness timer; after ~start_timeout without them, end the node
+  /// with kExitRuntimeError. Callbacks run wherever ctx.nh()'s queue is served.
+  void start();
+  /// \brief Stop taking states, save ~weights_out (unless the node failed), print a summary.
+  /// Idempotent; called after the spin (process) or on unload (nodelet).
+  void finish();
 
  private:
   void stateCallback(const PlantState::ConstPtr& msg);
@@ -59,26 +65,32 @@ class MracControllerNode {
   /// command (~stale_policy) of the last valid state, flagged `stale`; then diagnostics.
   void staleTimerCallback(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
-  bool waitForSubscribers();
-  void saveWeights(const char* why);
+  bool subscribersReady() const;
+  void subscribe();
+  /// \brief The safe command (~stale_policy on the last valid state): the answer to a rejected
+  /// state (stale = false) and the staleness timer's command (stale = true).
+  ElevatorCommand::ConstPtr safeCommand(const ros::Time& stamp, std::uint64_t step, double t,
+                                        bool stale);
+  /// \brief at_end: after the spin, when rosconsole may no longer print.
+  void saveWeights(const char* why, bool at_end = false);
   void fatal(const std::string& what);
 
+  NodeContext ctx_;
   ros::NodeHandle nh_;
   ControllerNodeParams params_;
   Controller ctl_;
   ros::Publisher cmd_pub_, attention_pub_, status_pub_;
   ros::Subscriber state_sub_, truth_sub_;
   ros::Timer stale_timer_;
+  ros::WallTimer start_timer_;
+  double start_wall_ = 0.0;  ///< wall time [s] start() began waiting for subscribers
   diagnostic_updater::Updater updater_;
 
-  ElevatorCommand cmd_msg_;
-  AdaptationStatus status_msg_;
-  AttentionEvent event_msg_;
+  ElevatorCommand::ConstPtr last_cmd_;  ///< the answer to the last state (sent again on a repeat)
   Vec x_, x_last_valid_;
   InputGuard state_guard_, truth_guard_;
 
-  bool dt_checked_ = false, failed_ = false;
-  int exit_code_ = 0;
+  bool dt_checked_ = false, failed_ = false, finished_ = false;
   bool have_last_ = false;
   std::uint64_t last_step_ = 0;
   std::int64_t gaps_ = 0, steps_ = 0, episodes_saved_ = -1;
@@ -93,8 +105,7 @@ class MracControllerNode {
   std::int64_t stale_commands_ = 0, stale_episodes_ = 0, rejected_answers_ = 0;
   std::int64_t states_received_ = 0, saturated_ = 0, onsets_ = 0, resets_ = 0, recoveries_ = 0;
   std::int64_t plant_restarts_ = 0;
-  std::int64_t diag_states_ = 0;  ///< states_received_ at the last diagnostics report
-  double diag_time_ = 0.0;        ///< ROS time [s] of the last diagnostics report
+  RateMeter state_rate_;  ///< states per second of ROS time, for the diagnostics
 
   // pa_robust's verifications, for the diagnostics.
   std::int64_t decision_events_ = 0;         ///< DECISION events
@@ -110,8 +121,12 @@ class MracControllerNode {
   std::uint64_t last_truth_step_ = 0;
 };
 
-/// \brief Everything main() does after ros::init(): read ~ (every problem at once; ROS_FATAL
-/// each and return kExitConfigError without advertising), build the node, run it.
+/// \brief Read ~ (every problem at once: ROS_FATAL each, ctx.end(kExitConfigError), nothing
+/// advertised, nullptr), build the node and start() it. Shared by the node and the nodelet.
+std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ctx);
+
+/// \brief Everything main() does after ros::init(): makeMracControllerNode, spin until
+/// shutdown, finish(); returns the exit code (0, kExitConfigError, kExitRuntimeError).
 int runMracControllerNode();
 
 }  // namespace ros1

@@ -59,6 +59,12 @@ struct PlantNodeParams {
   /// Every optional key left out and filled with its default ("<key> = <value>", resolved
   /// names): the node's own (~dt, ~clock, ...) and those of the plant and scenario sections.
   std::vector<std::string> defaults_used;
+  /// ~rt_priority: realtime only: run the tick thread under SCHED_FIFO at this priority
+  /// [1, 99]; 0 = normal scheduling. Without the right (CAP_SYS_NICE, rtprio limit) the plant
+  /// warns once and keeps normal scheduling.
+  int rt_priority = 0;
+  /// ~cpu_affinity: realtime only: pin the tick thread to this CPU [0, 1023]; -1 = any CPU.
+  int cpu_affinity = -1;
 };
 
 /// \brief Everything mrac_controller_node reads from `~`.
@@ -84,6 +90,11 @@ struct ControllerNodeParams {
   /// Every optional key left out and filled with its default (the node's own, then the plant
   /// and controller sections').
   std::vector<std::string> defaults_used;
+  /// ~rt_priority: SCHED_FIFO priority [1, 99] of each thread that runs the state callback
+  /// (the spinning thread; in a nodelet manager its worker threads); 0 = normal scheduling.
+  /// Refused (no CAP_SYS_NICE): a warning, normal scheduling.
+  int rt_priority = 0;
+  int cpu_affinity = -1;  ///< ~cpu_affinity: pin those threads to this CPU; -1 = any
 };
 
 /// \brief One start-up line naming every optional key filled with its default:

@@ -4,11 +4,13 @@
 /// the batch loop uses), published as plant/state, plant/truth, tf and (lockstep) /clock.
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <cstdint>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "preadaptive_mrac/ElevatorCommand.h"
@@ -17,7 +19,10 @@
 #include "preadaptive_mrac/RecorderProgress.h"
 #include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/ros/latency_stats.hpp"
+#include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/rate_meter.hpp"
+#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -35,13 +40,14 @@ namespace ros1 {
 class PlantSimNode {
  public:
   /// \brief Advertises and subscribes; params must have been validated.
-  PlantSimNode(const ros::NodeHandle& nh, const PlantNodeParams& params);
+  PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params);
 
   /// \brief Run the scenario to its end (or until shutdown). Returns the process exit code:
   /// 0 on completion or interruption, kExitRuntimeError on a start or command timeout (no
   /// controller subscribed within ~start_timeout; lockstep: no command within
   /// ~command_timeout; realtime: no valid command within ~start_timeout of the first state).
-  /// With ~linger, a completed run closes its topics and returns only at shutdown.
+  /// With ~linger, a completed run closes its topics and returns only at shutdown. Blocks: a
+  /// nodelet runs it in a thread of its own; it returns soon after ctx.stop().
   int run();
 
   /// \brief The report of the run so far (latency, missed steps, wall time).
@@ -71,7 +77,9 @@ class PlantSimNode {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   static ros::Time simStamp(double t);
 
+  NodeContext ctx_;
   ros::NodeHandle nh_;
+  ros::CallbackQueue queue_;  ///< the command and progress subscriptions, served by run()
   PlantNodeParams params_;
   ScenarioPlant sim_;
   ros::Publisher state_pub_, truth_pub_, clock_pub_;
@@ -79,8 +87,6 @@ class PlantSimNode {
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater updater_;
 
-  PlantState state_msg_;
-  PlantTruth truth_msg_;
   double applied_u_ = 0.0;    ///< elevator over the previous step [rad]
   double theta_pitch_ = 0.0;  ///< integrated pitch angle [rad] (display only)
 
@@ -100,10 +106,11 @@ class PlantSimNode {
   bool cmd_stale_ = false;      ///< the held command came from the staleness timer
   double last_cmd_wall_ = 0.0;  ///< wall time [s] of the last accepted command
   std::string last_rejection_;
-  std::int64_t diag_steps_ = 0, diag_cmds_ = 0;  ///< counters at the last diagnostics report
-  double diag_wall_ = 0.0;
+  RateMeter step_rate_, cmd_rate_;  ///< wall-clock rates for the diagnostics
   std::int64_t stale_steps_ = 0, late_ticks_ = 0, resent_ = 0, recorder_waits_ = 0;
   std::vector<double> latency_us_;
+  std::vector<double> tick_late_us_;  ///< realtime: wake-up after each tick's deadline [us]
+  std::string scheduling_;            ///< realtime: the tick thread's scheduling
   std::vector<double> publish_wall_;  ///< lockstep: wall time [s] state k was published
   double wall_start_ = 0.0, wall_end_ = 0.0;
   bool completed_ = false;

@@ -18,20 +18,6 @@ namespace ros1 {
 /// so that the readers report them as the wrong type.
 ParamValue fromXmlRpc(const XmlRpc::XmlRpcValue& v);
 
-/// \brief The calling node's whole private namespace (`~`) as a map; an empty map when the
-/// node has no private parameters. Requires ros::init().
-ParamValue readPrivateParams();
-
-/// \brief Key style naming fully resolved private parameters: "/node_name/controller/lqr/R".
-KeyStyle privateKeyStyle();
-
-/// \brief ROS_FATAL one line per problem, preceded by a summary line naming the node.
-void logConfigProblems(const std::vector<std::string>& problems);
-
-/// \brief Print one line to stdout (flushed) after ros::shutdown(), when rosconsole no longer
-/// prints: the final summaries (weights saved, bag closed) must still reach the user.
-void printAfterShutdown(const std::string& line, bool error = false);
-
 /// \brief Exit code of a node whose configuration was refused.
 constexpr int kExitConfigError = 2;
 /// \brief Exit code of a node that stopped on a run-time failure (timeout, lost peer).

@@ -6,10 +6,12 @@
 
 #include <ros/ros.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/ros/node_context.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -18,23 +20,33 @@ namespace ros1 {
 /// (step == total_steps - 1) and then left (no publisher on its topic any more).
 class RunMonitor {
  public:
-  /// \brief topics: PlantState topics, resolved in nh's namespace.
-  RunMonitor(const ros::NodeHandle& nh, const std::vector<std::string>& topics);
-  /// \brief Spin until every plant finished (returns 0), a plant left before its last step
-  /// (kExitRuntimeError), or shutdown (0).
-  int run();
+  /// \brief topics: PlantState topics, resolved in ctx.nh()'s namespace. Ends the node
+  /// (ctx.end) with 0 when every plant finished, kExitRuntimeError when a plant left before
+  /// its last step; checked every 10 ms on ctx.nh()'s queue.
+  RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics);
+  /// \brief Stop watching.
+  void finish();
 
  private:
+  void check();
+
   struct Watch {
     ros::Subscriber sub;
     std::string topic;
     bool seen_publisher = false, completed = false;
     std::uint64_t last_step = 0, total = 0;
   };
+  NodeContext ctx_;
   std::vector<Watch> watches_;
+  ros::WallTimer timer_;
+  bool done_ = false;
 };
 
-/// \brief main() after ros::init(): reads ~state_topics (list of strings, required).
+/// \brief Read ~state_topics (list of strings, required; refused: ctx.end(kExitConfigError),
+/// nullptr) and start watching. Node and nodelet.
+std::unique_ptr<RunMonitor> makeRunMonitor(const NodeContext& ctx);
+
+/// \brief main() after ros::init(): makeRunMonitor, spin until it ends the node.
 int runRunMonitorNode();
 
 }  // namespace ros1

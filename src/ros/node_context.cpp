@@ -1,0 +1,89 @@
+#include "preadaptive_mrac/ros/node_context.hpp"
+
+#include <cstdio>
+#include <mutex>
+
+namespace preadaptive_mrac {
+namespace ros1 {
+namespace {
+
+std::mutex g_exit_mutex;
+int g_exit_code = 0;
+bool g_exit_requested = false;
+
+}  // namespace
+
+NodeContext NodeContext::forProcess() {
+  NodeContext c;
+  c.nh_ = ros::NodeHandle();
+  c.pnh_ = ros::NodeHandle("~");
+  c.name_ = ros::this_node::getName();
+  return c;
+}
+
+NodeContext NodeContext::forNodelet(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
+                                    const std::string& name, bool required) {
+  NodeContext c;
+  c.nh_ = nh;
+  c.pnh_ = pnh;
+  c.name_ = name;
+  c.nodelet_ = true;
+  c.required_ = required;
+  return c;
+}
+
+void NodeContext::end(int code) const {
+  stopped_->store(true);
+  if (nodelet_ && !required_) {
+    ROS_INFO("%s: finished (code %d); not required, so the manager keeps running", name_.c_str(),
+             code);
+    return;
+  }
+  requestProcessExit(code);
+}
+
+ParamValue NodeContext::privateParams() const {
+  XmlRpc::XmlRpcValue v;
+  // getParam on the private namespace itself returns the whole subtree.
+  if (!ros::param::get(pnh_.getNamespace(), v)) return ParamValue::makeMap();
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct) return ParamValue::makeMap();
+  return fromXmlRpc(v);
+}
+
+KeyStyle NodeContext::keyStyle() const {
+  KeyStyle s;
+  s.root = pnh_.getNamespace() + "/";
+  s.separator = '/';
+  return s;
+}
+
+void NodeContext::logConfigProblems(const std::vector<std::string>& problems) const {
+  ROS_FATAL("%s: refusing to start, %zu parameter problem(s):", name_.c_str(), problems.size());
+  for (const auto& p : problems) ROS_FATAL("  %s", p.c_str());
+}
+
+void NodeContext::printFinal(const std::string& line, bool error) const {
+  std::FILE* f = error ? stderr : stdout;
+  std::fprintf(f, "[%s] %s: %s\n", error ? "ERROR" : " INFO", name_.c_str(), line.c_str());
+  std::fflush(f);
+}
+
+void requestProcessExit(int code) {
+  {
+    std::lock_guard<std::mutex> lock(g_exit_mutex);
+    if (!g_exit_requested || (g_exit_code == 0 && code != 0)) g_exit_code = code;
+    g_exit_requested = true;
+  }
+  // Deferred to roscpp's own thread (within 0.1 s): ros::shutdown() here could run inside a
+  // nodelet manager's load service callback (a nodelet refusing its parameters in onInit()),
+  // while the manager is still setting the nodelet up.
+  ros::requestShutdown();
+}
+
+int processExitCode() {
+  std::lock_guard<std::mutex> lock(g_exit_mutex);
+  return g_exit_code;
+}
+
+}  // namespace ros1
+}  // namespace preadaptive_mrac
