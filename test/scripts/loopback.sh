@@ -54,11 +54,11 @@ descendants() {  # pids of $1 and all its descendants
   echo "${out[@]}"
 }
 
-# run NAME [ENV=VALUE...]: one launch; prints the sockets of its processes to $W/NAME.sockets
-# as "PROTO ADDRESS:PORT PROCESS".
+# run NAME SHAPE [ENV=VALUE...]: one launch (shape:=process or nodelet); prints the sockets of
+# its processes to $W/NAME.sockets as "PROTO ADDRESS:PORT PROCESS".
 run() {
-  local name=$1 port i pids
-  shift
+  local name=$1 shape=$2 port i pids
+  shift 2
   port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
   (
     unset ROS_IP ROS_HOSTNAME LD_PRELOAD PMRAC_LOOPBACK_BIND
@@ -67,14 +67,18 @@ run() {
     exec setsid "$ROOT/scripts/lib/launch_checked" --quiet --timeout 60 --log "$W/$name/launch.log" \
       --expect-report "$W/$name/plant.json" -- -p "$port" preadaptive_mrac scenario.launch \
       scenario:="$W/short.yaml" clock:=realtime record:=true bag_dir:="$W/$name/bags" \
-      latency_report:="$W/$name/plant.json" output:=log
+      latency_report:="$W/$name/plant.json" output:=log shape:="$shape"
   ) &
   LC_PID=$!
-  # Wait until the plant, controller and recorder are up (their topics have subscribers).
+  # Wait until the plant, controller and recorder are up: the recorder's progress topic is
+  # advertised after all its subscriptions (in a nodelet manager, subscribers of a topic are
+  # the manager, so they cannot be told apart), and the controller subscribes plant/state.
   local t0=$SECONDS
   while [ $((SECONDS - t0)) -lt 30 ]; do
-    ROS_MASTER_URI=http://127.0.0.1:$port timeout 5 rostopic info /plant/state 2>/dev/null |
-      grep -q '/recorder' && break
+    ROS_MASTER_URI=http://127.0.0.1:$port timeout 5 rostopic list 2>/dev/null |
+      grep -q 'progress$' &&
+      ROS_MASTER_URI=http://127.0.0.1:$port timeout 5 rostopic info /controller/status \
+        2>/dev/null | grep -q 'Publishers:' && break
     sleep 0.3
   done
   sleep 1
@@ -95,26 +99,36 @@ run() {
   LC_PID=""
 }
 
-run shim
-[ "$RC" = 0 ] && ok "the run completed (launch_checked exit 0)" ||
-  bad "the run failed: launch_checked exit $RC ($(tail -5 "$W/shim/launch.log"))"
-n=$(wc -l <"$W/shim.sockets")
-procs=$(awk '{print $3}' "$W/shim.sockets" | sort -u | tr '\n' ' ')
-# rosmaster, roslaunch, rosout, plant, controller, recorder, monitor: at least 2 each but the
-# Python ones; a run seen without its nodes would pass vacuously.
-for want in rosmaster roslaunch rosout plant_sim_node mrac_controller bag_recorder_no; do
-  grep -q " $want\$" "$W/shim.sockets" || bad "no socket of $want seen (seen: $procs)"
-done
-if [ "$n" -ge 12 ]; then ok "$n sockets of the run seen ($procs)"; else bad "only $n sockets seen"; fi
-others=$(awk '$2 !~ /^127\.0\.0\.1:/ && $2 !~ /^\[::1\]:/' "$W/shim.sockets")
-if [ -z "$others" ]; then
-  ok "every socket of the run is on 127.0.0.1"
-else
-  bad "sockets not on loopback:"; sed 's/^/    /' <<<"$others"
-fi
+check_run() {  # NAME: the run ended well, its processes were seen, every socket on loopback
+  local name=$1 n procs want others
+  shift
+  [ "$RC" = 0 ] && ok "$name: the run completed (launch_checked exit 0)" ||
+    bad "$name: the run failed: launch_checked exit $RC ($(tail -5 "$W/$name/launch.log"))"
+  n=$(wc -l <"$W/$name.sockets")
+  procs=$(awk '{print $3}' "$W/$name.sockets" | sort -u | tr '\n' ' ')
+  # Every process of the run (a run seen without its nodes would pass vacuously).
+  for want in "$@"; do
+    grep -q " $want\$" "$W/$name.sockets" || bad "$name: no socket of $want seen (seen: $procs)"
+  done
+  if [ "$n" -ge 6 ]; then ok "$name: $n sockets of the run seen ($procs)"; else bad "$name: only $n sockets seen"; fi
+  others=$(awk '$2 !~ /^127\.0\.0\.1:/ && $2 !~ /^\[::1\]:/' "$W/$name.sockets")
+  if [ -z "$others" ]; then
+    ok "$name: every socket of the run is on 127.0.0.1"
+  else
+    bad "$name: sockets not on loopback:"
+    sed 's/^/    /' <<<"$others"
+  fi
+}
+
+# One process per node: rosmaster, roslaunch, rosout, plant, controller, recorder, monitor.
+run shim process
+check_run shim rosmaster roslaunch rosout plant_sim_node mrac_controller bag_recorder_no
+# The default shape: the nodes are nodelets in one pmrac_manager process.
+run nodelet nodelet
+check_run nodelet rosmaster roslaunch rosout pmrac_manager
 
 # The checker sees a socket on another address: the same run without the shim.
-run noshim PMRAC_LOOPBACK_BIND=0
+run noshim process PMRAC_LOOPBACK_BIND=0
 others=$(awk '$2 !~ /^127\.0\.0\.1:/ && $2 !~ /^\[::1\]:/' "$W/noshim.sockets")
 if grep -q "^t 0.0.0.0:[0-9]* plant_sim_node" <<<"$others" &&
   grep -q "^t 0.0.0.0:[0-9]* mrac_controller" <<<"$others"; then

@@ -74,6 +74,12 @@ EXPECT_RUNS = [
         ('drop',),
         'optional (default true)',
     ),
+    (
+        'controller',
+        r'controller\.robust\.[a-z_]+',
+        ('drop',),
+        'optional (each key of controller.robust has its documented default)',
+    ),
 ]
 
 
