@@ -239,7 +239,9 @@ def plot_decisions(plt, run, path):
             ),
             xy=(i0 + 0.6, 1.0),
             xycoords=('data', 'axes fraction'),
-            xytext=(2, -3),
+            # Neighbouring verifications alternate between two rows, so their labels do not
+            # run into each other when verifications are short.
+            xytext=(2, -3 - 30 * (j % 2)),
             textcoords='offset points',
             va='top',
             ha='left',
