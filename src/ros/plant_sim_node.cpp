@@ -53,6 +53,7 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
   const auto q = static_cast<uint32_t>(params_.queue_size);
   state_pub_ = nh_.advertise<PlantState>("plant/state", q);
   truth_pub_ = nh_.advertise<PlantTruth>("plant/truth", q);
+  done_pub_ = nh_.advertise<PlantState>("plant/done", 1, /*latch=*/true);
   if (params_.clock == ClockMode::kLockstep && params_.publish_clock) {
     // Latched, so a node that starts late (rosbag waits for a valid clock before it
     // subscribes to anything) sees the current time at once.
@@ -247,7 +248,8 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   state->r = sim_.reference();
   state->elevator = applied_u_;
   if (params_.clock == ClockMode::kLockstep) publish_wall_[static_cast<size_t>(k)] = wallNow();
-  state_pub_.publish(PlantState::ConstPtr(state));
+  last_state_ = state;
+  state_pub_.publish(last_state_);
 
   if (k % static_cast<std::uint64_t>(params_.tf_decimation) == 0) {
     std::vector<geometry_msgs::TransformStamped> tfs;
@@ -456,6 +458,7 @@ int PlantSimNode::runRealtime() {
 void PlantSimNode::finish(bool completed) {
   wall_end_ = wallNow();
   completed_ = completed;
+  if (completed && last_state_) done_pub_.publish(last_state_);
   const RunReport r = report();
   ROS_INFO(
       "plant_sim: %s after %lld of %lld steps in %.3f s wall; commands %lld (ignored %lld); "

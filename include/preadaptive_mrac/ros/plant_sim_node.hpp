@@ -83,6 +83,10 @@ class PlantSimNode {
   PlantNodeParams params_;
   ScenarioPlant sim_;
   ros::Publisher state_pub_, truth_pub_, clock_pub_;
+  /// plant/done: the last state, latched, once the run completed; kept open while lingering
+  /// so that a run monitor that subscribed late still learns that the run completed.
+  ros::Publisher done_pub_;
+  PlantState::ConstPtr last_state_;
   ros::Subscriber cmd_sub_, progress_sub_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater updater_;

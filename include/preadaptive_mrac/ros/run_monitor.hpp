@@ -17,7 +17,13 @@ namespace preadaptive_mrac {
 namespace ros1 {
 
 /// \brief Watches PlantState topics; done when every plant has published its last step
-/// (step == total_steps - 1) and then left (no publisher on its topic any more).
+/// (step == total_steps - 1) and then left (no publisher on its topic any more). The last
+/// state also comes latched on the sibling topic `done` (plant/state -> plant/done), so a
+/// monitor that subscribed after the plant's last message (a lockstep run of a fraction of
+/// a second in a nodelet manager, which the plant does not wait for) still sees it. A plant
+/// that left before its last step is a failure only once it has been gone for kLeaveGrace
+/// of wall time: the messages it sent before leaving may still wait in the queue (a loaded
+/// machine, a plant that ran a lockstep scenario in a fraction of a second).
 class RunMonitor {
  public:
   /// \brief topics: PlantState topics, resolved in ctx.nh()'s namespace. Ends the node
@@ -31,16 +37,22 @@ class RunMonitor {
   void check();
 
   struct Watch {
-    ros::Subscriber sub;
+    ros::Subscriber sub, done_sub;
     std::string topic;
     bool seen_publisher = false, completed = false;
     std::uint64_t last_step = 0, total = 0;
+    ros::WallTime gone_since;  ///< zero while a publisher is there
   };
+  static constexpr double kLeaveGrace = 2.0;  ///< [s] wall
   NodeContext ctx_;
   std::vector<Watch> watches_;
   ros::WallTimer timer_;
   bool done_ = false;
 };
+
+/// \brief The latched topic beside a PlantState topic with the plant's last state:
+/// ".../state" -> ".../done", any other name + "/done".
+std::string doneTopic(const std::string& state_topic);
 
 /// \brief Read ~state_topics (list of strings, required; refused: ctx.end(kExitConfigError),
 /// nullptr) and start watching. Node and nodelet.
