@@ -9,6 +9,9 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_node_params preadaptive_mrac_ros_params gtest_main)
   target_compile_definitions(test_ros_node_params PRIVATE
     PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
+  # ~accept_from's matching (issue 11): which caller ids pass, drops counted and warned once.
+  catkin_add_gtest(test_ros_publisher_guard test/ros/test_publisher_guard.cpp)
+  target_link_libraries(test_ros_publisher_guard preadaptive_mrac_ros_params gtest_main)
 
   # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle
