@@ -69,4 +69,10 @@ if(CATKIN_ENABLE_TESTING)
   # learning episode, the plant waiting (repeating its state) until the restarted controller
   # answers; the run completes with every step answered.
   add_rostest(test/ros/faults_lockstep.test DEPENDENCIES plant_sim_node mrac_controller_node)
+  # Issue 11, ~accept_from: stray nodes publishing commands and states into the guarded loop
+  # (realtime) are dropped, counted on /diagnostics and warned about once; the loop runs on.
+  foreach(shape nodelet process)
+    add_rostest(test/ros/stray_publisher.test ARGS shape:=${shape}
+      DEPENDENCIES plant_sim_node mrac_controller_node pmrac_manager preadaptive_mrac_nodelets)
+  endforeach()
 endif()
