@@ -2,9 +2,11 @@
 # The node classes live in a library (so rostest gtests can reuse them); each node file
 # holds only main().
 
-# ROS-free parts of the glue (parameter reading, latency statistics): tested without a master.
+# ROS-free parts of the glue (parameter reading, the publisher guard, latency statistics):
+# tested without a master.
 add_library(preadaptive_mrac_ros_params
   src/ros/node_params.cpp
+  src/ros/publisher_guard.cpp
   src/ros/latency_stats.cpp
   src/ros/tick_source.cpp)
 target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)

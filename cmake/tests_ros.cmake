@@ -9,6 +9,9 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_node_params preadaptive_mrac_ros_params gtest_main)
   target_compile_definitions(test_ros_node_params PRIVATE
     PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
+  # ~accept_from's matching (issue 11): which caller ids pass, drops counted and warned once.
+  catkin_add_gtest(test_ros_publisher_guard test/ros/test_publisher_guard.cpp)
+  target_link_libraries(test_ros_publisher_guard preadaptive_mrac_ros_params gtest_main)
 
   # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle
@@ -66,4 +69,10 @@ if(CATKIN_ENABLE_TESTING)
   # learning episode, the plant waiting (repeating its state) until the restarted controller
   # answers; the run completes with every step answered.
   add_rostest(test/ros/faults_lockstep.test DEPENDENCIES plant_sim_node mrac_controller_node)
+  # Issue 11, ~accept_from: stray nodes publishing commands and states into the guarded loop
+  # (realtime) are dropped, counted on /diagnostics and warned about once; the loop runs on.
+  foreach(shape nodelet process)
+    add_rostest(test/ros/stray_publisher.test ARGS shape:=${shape}
+      DEPENDENCIES plant_sim_node mrac_controller_node pmrac_manager preadaptive_mrac_nodelets)
+  endforeach()
 endif()

@@ -86,6 +86,7 @@ MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerN
       params_(params),
       ctl_(params.run.plant, params.run.controller),
       updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()),
+      input_guard_(makePublisherGuard(ctx, params.accept_from)),
       // The state guard rejects malformed samples before they reach the controller and, fed
       // ROS time, tells when the last valid one is older than ~stale_timeout.
       state_guard_(static_cast<std::size_t>(params.run.plant.n()), params.stale_timeout),
@@ -161,9 +162,11 @@ void MracControllerNode::start() {
 void MracControllerNode::subscribe() {
   state_sub_ = nh_.subscribe("plant/state", kSampleQueue, &MracControllerNode::stateCallback, this,
                              ros::TransportHints().tcpNoDelay());
+  state_topic_ = state_sub_.getTopic();
   if (ctl_.needsTruth()) {
     truth_sub_ = nh_.subscribe("plant/truth", kSampleQueue, &MracControllerNode::truthCallback,
                                this, ros::TransportHints().tcpNoDelay());
+    truth_topic_ = truth_sub_.getTopic();
     ROS_WARN(
         "mode %s uses the SIMULATION TRUTH theta from %s (%s; only a simulator has it); "
         "each state waits for the truth of the same step",
@@ -171,6 +174,10 @@ void MracControllerNode::subscribe() {
         ctl_.mode() == Mode::kOracle ? "theta_hat := theta at each switch"
                                      : "the learning gradient");
   }
+  if (input_guard_.enabled())
+    ROS_INFO("taking %s%s only from %s (~accept_from)", state_topic_.c_str(),
+             truth_sub_ ? (" and " + truth_topic_).c_str() : "",
+             input_guard_.acceptedText().c_str());
   stale_timer_ = nh_.createTimer(ros::Duration(params_.run.controller.sample_time),
                                  &MracControllerNode::staleTimerCallback, this);
 }
@@ -186,6 +193,10 @@ void MracControllerNode::finish() {
   ctx_.printFinal(std::to_string(steps_) + " steps, " + std::to_string(gaps_) +
                   " gap(s) in the state sequence, " +
                   std::to_string(ctl_.network().state().episodes) + " learning episode(s)");
+  if (input_guard_.dropped() > 0)
+    ctx_.printFinal(std::to_string(input_guard_.dropped()) +
+                    " message(s) from foreign publishers dropped (~accept_from): " +
+                    input_guard_.droppedText());
 }
 
 void MracControllerNode::saveWeights(const char* why, bool at_end) {
@@ -212,8 +223,12 @@ void MracControllerNode::saveWeights(const char* why, bool at_end) {
   }
 }
 
-void MracControllerNode::stateCallback(const PlantState::ConstPtr& msg) {
+void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>& event) {
   if (failed_) return;
+  // ~accept_from: a state from another node is dropped before anything else: it is not
+  // answered, not counted as received and does not refresh the staleness timer.
+  if (!input_guard_.admitEvent(event, state_topic_)) return;
+  const PlantState::ConstPtr msg = event.getConstMessage();
   if (params_.rt_priority > 0 || params_.cpu_affinity >= 0) {
     // Whichever thread runs this callback (a nodelet's callbacks may move between the
     // manager's worker threads) gets ~rt_priority / ~cpu_affinity, once.
@@ -245,8 +260,10 @@ void MracControllerNode::stateCallback(const PlantState::ConstPtr& msg) {
   drainPending();
 }
 
-void MracControllerNode::truthCallback(const PlantTruth::ConstPtr& msg) {
+void MracControllerNode::truthCallback(const ros::MessageEvent<PlantTruth const>& event) {
   if (failed_) return;
+  if (!input_guard_.admitEvent(event, truth_topic_)) return;
+  const PlantTruth::ConstPtr msg = event.getConstMessage();
   const int n = params_.run.plant.n();
   std::string why;
   if (!truth_guard_.accept(0.0, msg->theta.data(), msg->theta.size(), &why, "theta")) {
@@ -503,6 +520,9 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
                  "stale input: publishing safe commands, adaptation frozen");
   } else if (state_guard_.rejected() > 0) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "malformed states rejected");
+  } else if (input_guard_.dropped() > 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 "input from foreign publishers dropped (~accept_from)");
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
   }
@@ -536,6 +556,9 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("plant restarts", plant_restarts_);
   stat.add("reconfigure changes applied", reconf_->applied());
   stat.add("reconfigure requests refused", reconf_->refused());
+  stat.add("accept from", input_guard_.acceptedText());
+  stat.add("foreign publisher drops", input_guard_.dropped());
+  stat.add("foreign publishers", input_guard_.droppedText());
 }
 
 std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ctx) {

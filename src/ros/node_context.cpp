@@ -68,6 +68,12 @@ void NodeContext::printFinal(const std::string& line, bool error) const {
   std::fflush(f);
 }
 
+PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std::string>& names) {
+  return PublisherGuard(resolveCallerNames(ctx.nh().getNamespace(), names),
+                        ctx.keyStyle().root + "accept_from",
+                        [](const std::string& warning) { ROS_WARN("%s", warning.c_str()); });
+}
+
 void requestProcessExit(int code) {
   {
     std::lock_guard<std::mutex> lock(g_exit_mutex);

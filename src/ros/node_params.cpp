@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "preadaptive_mrac/io/weights_io.hpp"
+#include "preadaptive_mrac/ros/publisher_guard.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -46,6 +47,38 @@ int readCount(ParamReader& r, const std::string& key, int def, int lo, int hi) {
     return def;
   }
   return static_cast<int>(v);
+}
+
+/// ~accept_from: a list of node names (PublisherGuard); absent or [] = any publisher. Each
+/// entry that is not a string or not a node name is a problem naming it (".../accept_from/1").
+std::vector<std::string> readCallerList(ParamReader& r, const ParamValue& tree,
+                                        const std::string& key) {
+  std::vector<std::string> out;
+  const ParamValue* v = tree.findPath(key);
+  if (v == nullptr) {
+    r.noteDefault(key, "[] (any publisher)");
+    return out;
+  }
+  if (v->type() != ParamValue::Type::kList) {
+    r.fail(key, std::string("expected a list of node names (e.g. [/mrac_controller]; [] = any "
+                            "publisher), got ") +
+                    ParamValue::typeName(v->type()) + " " + v->describe());
+    return out;
+  }
+  for (std::size_t i = 0; i < v->list().size(); ++i) {
+    const ParamValue& e = v->list()[i];
+    const std::string entry = key + "." + std::to_string(i);
+    std::string why;
+    if (e.type() != ParamValue::Type::kString) {
+      r.fail(entry, std::string("expected a node name (string), got ") +
+                        ParamValue::typeName(e.type()) + " " + e.describe());
+    } else if (!validCallerName(e.asString(), &why)) {
+      r.fail(entry, "'" + e.asString() + "' is not a node name: " + why);
+    } else {
+      out.push_back(e.asString());
+    }
+  }
+  return out;
 }
 
 void appendProblems(std::vector<std::string>* out, const std::vector<std::string>& in) {
@@ -119,6 +152,7 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   p.linger = r.getBool("linger", p.linger);
   p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
   p.cpu_affinity = readCount(r, "cpu_affinity", p.cpu_affinity, -1, 1023);
+  p.accept_from = readCallerList(r, tree, "accept_from");
   rejectUnknownTopLevel(tree, r,
                         {"plant",
                          "controller",
@@ -146,7 +180,8 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                          "cpu_affinity",
                          "cmd_timeout",
                          "diagnostic_period",
-                         "linger"});
+                         "linger",
+                         "accept_from"});
 
   std::vector<std::string> problems = r.problems();
   try {
@@ -189,14 +224,16 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
   p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
   p.cpu_affinity = readCount(r, "cpu_affinity", p.cpu_affinity, -1, 1023);
+  p.accept_from = readCallerList(r, tree, "accept_from");
   // (~stale_policy was read above but missing here, so setting it was refused as unknown.)
-  rejectUnknownTopLevel(tree, r,
-                        {"plant", "controller", "scenario", "weights_in", "weights_out",
-                         "save_every_episode", "min_command_subscribers", "min_status_subscribers",
-                         "start_timeout", "truth_buffer", "queue_size", "stale_policy",
-                         "stale_timeout", "diagnostic_period", "rt_priority", "cpu_affinity",
-                         // written by the dynamic_reconfigure server (~reconfigure/*), never read
-                         "reconfigure"});
+  rejectUnknownTopLevel(
+      tree, r,
+      {"plant", "controller", "scenario", "weights_in", "weights_out", "save_every_episode",
+       "min_command_subscribers", "min_status_subscribers", "start_timeout", "truth_buffer",
+       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period", "rt_priority",
+       "cpu_affinity", "accept_from",
+       // written by the dynamic_reconfigure server (~reconfigure/*), never read
+       "reconfigure"});
 
   std::vector<std::string> problems = r.problems();
   bool run_ok = false;

@@ -40,7 +40,8 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
       nh_(ctx.nh()),
       params_(params),
       sim_(params.run.plant, params.run.scenario, params.dt),
-      updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()) {
+      updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()),
+      cmd_guard_(makePublisherGuard(ctx, params.accept_from)) {
   // The plant's own subscriptions go to a queue that only its loop serves: in lockstep the
   // loop takes each command as soon as it is queued, with no other thread in between, in a
   // process of its own and in a shared nodelet manager alike.
@@ -61,6 +62,10 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
   }
   cmd_sub_ = own.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback,
                            this, ros::TransportHints().tcpNoDelay());
+  cmd_topic_ = cmd_sub_.getTopic();
+  if (cmd_guard_.enabled())
+    ROS_INFO("taking commands on %s only from %s (~accept_from)", cmd_topic_.c_str(),
+             cmd_guard_.acceptedText().c_str());
   if (!params_.recorder_progress_topic.empty()) {
     progress_sub_ =
         own.subscribe(params_.recorder_progress_topic, 100, &PlantSimNode::progressCallback, this,
@@ -83,7 +88,11 @@ ros::Time PlantSimNode::simStamp(double t) {
   return s;
 }
 
-void PlantSimNode::commandCallback(const ElevatorCommand::ConstPtr& msg) {
+void PlantSimNode::commandCallback(const ros::MessageEvent<ElevatorCommand const>& event) {
+  // ~accept_from: a command from another node is dropped before anything else, so it can
+  // neither answer a lockstep step nor count as fresh in realtime (trim still comes).
+  if (!cmd_guard_.admitEvent(event, cmd_topic_)) return;
+  const ElevatorCommand::ConstPtr msg = event.getConstMessage();
   const double arrival = wallNow();
   std::lock_guard<std::mutex> lock(mutex_);
   if (!std::isfinite(msg->u)) {
@@ -218,6 +227,17 @@ std::string PlantSimNode::missingPeers() const {
   return s;
 }
 
+std::string PlantSimNode::noCommandCause(const char* silent) const {
+  std::string s = cmd_sub_.getNumPublishers() == 0
+                      ? "no node publishes it: no controller (or it has gone)"
+                      : std::string("the controller is connected but ") + silent;
+  // A ~accept_from that does not name the controller's caller id drops every answer.
+  if (cmd_guard_.dropped() > 0)
+    s += "; commands dropped as not from ~accept_from (" + cmd_guard_.acceptedText() +
+         "): " + cmd_guard_.droppedText();
+  return s;
+}
+
 void PlantSimNode::publishSample(const ros::Time& stamp) {
   const auto k = static_cast<std::uint64_t>(sim_.step());
   // What a sensor reports (state + the configured noise); the true state stays in the core.
@@ -327,11 +347,7 @@ int PlantSimNode::runLockstep() {
             "no command for step %llu (t = %.6f s) on %s within %.3f s "
             "(~command_timeout): %s; stopping (exit code %d)",
             static_cast<unsigned long long>(k), sim_.time(), cmd_sub_.getTopic().c_str(),
-            params_.command_timeout,
-            cmd_sub_.getNumPublishers() == 0
-                ? "no node publishes it: no controller (or it has gone)"
-                : "the controller is connected but did not answer",
-            kExitRuntimeError);
+            params_.command_timeout, noCommandCause("did not answer").c_str(), kExitRuntimeError);
         finish(false);
         return kExitRuntimeError;
       }
@@ -415,10 +431,7 @@ int PlantSimNode::runRealtime() {
             "no valid command on %s within %.1f s of the first state (~start_timeout): %s; "
             "giving up (exit code %d)",
             cmd_sub_.getTopic().c_str(), params_.start_timeout,
-            cmd_sub_.getNumPublishers() == 0
-                ? "no node publishes it: no controller (or it has gone)"
-                : "the controller is connected but does not answer",
-            kExitRuntimeError);
+            noCommandCause("does not answer").c_str(), kExitRuntimeError);
         break;
       }
       if (!have_cmd_ || cmd_step_ != static_cast<std::uint64_t>(sim_.step())) ++stale_steps_;
@@ -470,6 +483,9 @@ void PlantSimNode::finish(bool completed) {
       r.latency.p50_us, r.latency.p99_us, r.latency.max_us, static_cast<long long>(r.stale_steps),
       static_cast<long long>(r.late_ticks), static_cast<long long>(r.resent_states),
       static_cast<long long>(r.recorder_waits));
+  if (cmd_guard_.dropped() > 0)
+    ROS_WARN("plant_sim: %lld command(s) from foreign publishers dropped (~accept_from): %s",
+             static_cast<long long>(cmd_guard_.dropped()), cmd_guard_.droppedText().c_str());
   if (!params_.latency_report.empty()) {
     std::ofstream f(params_.latency_report);
     f << runReportJson(r) << "\n";
@@ -494,6 +510,9 @@ void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
                  "no valid command within ~cmd_timeout: holding trim");
   } else if (commands_rejected_ > 0) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "non-finite commands rejected");
+  } else if (cmd_guard_.dropped() > 0) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 "commands from foreign publishers dropped (~accept_from)");
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
   }
@@ -515,6 +534,9 @@ void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("stale steps", stale_steps_);
   stat.add("late ticks", late_ticks_);
   stat.add("resent states", resent_);
+  stat.add("accept from", cmd_guard_.acceptedText());
+  stat.add("foreign publisher drops", cmd_guard_.dropped());
+  stat.add("foreign publishers", cmd_guard_.droppedText());
 }
 
 RunReport PlantSimNode::report() const {

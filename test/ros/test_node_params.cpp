@@ -358,3 +358,55 @@ TEST(NodeDefaults, NothingFilledSaysNone) {
   EXPECT_EQ(pm::ros1::defaultsLine({"/a = 1", "/b = 'x'"}),
             "optional keys filled with defaults: /a = 1, /b = 'x'");
 }
+
+// Issue 11, ~accept_from (PublisherGuard): a list of node names on both nodes; absent = any
+// publisher (named among the defaults); every bad entry named with its resolved key.
+TEST(AcceptFrom, ReadOnBothNodesAbsentMeansAnyPublisher) {
+  pm::ParamValue plant = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  auto p = pm::ros1::readPlantNodeParams(plant, style("/plant_sim"));
+  EXPECT_TRUE(p.accept_from.empty());
+  EXPECT_TRUE(anyContains(p.defaults_used, "/plant_sim/accept_from = [] (any publisher)"))
+      << joined(p.defaults_used);
+  plant.setPath("accept_from",
+                pm::ParamValue::makeList({pm::ParamValue::makeString("/mrac_controller"),
+                                          pm::ParamValue::makeString("pmrac_manager")}));
+  p = pm::ros1::readPlantNodeParams(plant, style("/plant_sim"));
+  EXPECT_EQ(p.accept_from, (std::vector<std::string>{"/mrac_controller", "pmrac_manager"}));
+  EXPECT_FALSE(anyContains(p.defaults_used, "accept_from")) << joined(p.defaults_used);
+
+  pm::ParamValue ctl = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  ctl.setPath("accept_from", pm::ParamValue::makeList({pm::ParamValue::makeString("/plant_sim")}));
+  const auto c = pm::ros1::readControllerNodeParams(ctl, style("/mrac_controller"));
+  EXPECT_EQ(c.accept_from, std::vector<std::string>{"/plant_sim"});
+  // [] is the same as absent: any publisher.
+  ctl.setPath("accept_from", pm::ParamValue::makeList({}));
+  EXPECT_TRUE(
+      pm::ros1::readControllerNodeParams(ctl, style("/mrac_controller")).accept_from.empty());
+}
+
+TEST(AcceptFrom, EveryBadEntryNamedWithTheOtherProblems) {
+  pm::ParamValue ctl = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  ctl.setPath("accept_from",
+              pm::ParamValue::makeList(
+                  {pm::ParamValue::makeString("/plant_sim"), pm::ParamValue::makeInt(3),
+                   pm::ParamValue::makeString("~plant"), pm::ParamValue::makeString("/a b")}));
+  ctl.setPath("stale_timeout", pm::ParamValue::makeDouble(-1.0));
+  const auto problems =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(ctl, style("/mrac_controller")); });
+  EXPECT_TRUE(anyContains(
+      problems, "/mrac_controller/accept_from/1: expected a node name (string), got int 3"))
+      << joined(problems);
+  EXPECT_TRUE(anyContains(problems, "/mrac_controller/accept_from/2: '~plant' is not a node name"))
+      << joined(problems);
+  EXPECT_TRUE(anyContains(problems, "/mrac_controller/accept_from/3: '/a b' is not a node name"))
+      << joined(problems);
+  EXPECT_TRUE(anyContains(problems, "/mrac_controller/stale_timeout")) << joined(problems);
+  EXPECT_FALSE(anyContains(problems, "accept_from/0")) << joined(problems);
+
+  pm::ParamValue plant = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  plant.setPath("accept_from", pm::ParamValue::makeString("/mrac_controller"));
+  const auto pp = problemsOf([&] { pm::ros1::readPlantNodeParams(plant, style("/plant_sim")); });
+  ASSERT_EQ(pp.size(), 1u) << joined(pp);
+  EXPECT_NE(pp[0].find("/plant_sim/accept_from: expected a list of node names"), std::string::npos)
+      << pp[0];
+}

@@ -3,7 +3,8 @@
 # namespaces joined by a veth pair (10.77.0.1/24 and 10.77.0.2/24), ROS_IP / ROS_MASTER_URI set
 # in each, launched with launch/two_machines.launch part:=plant / part:=controller.
 #  1. lockstep scenario 1 (pa_learn) through the link: the bag equals the batch CLI's CSV bit
-#     for bit (bench/bag_vs_cli.py --tol 0: every step once, alpha and theta_hat identical).
+#     for bit (bench/bag_vs_cli.py --tol 0: every step once, alpha and theta_hat identical),
+#     with the launch file's caller-id guard (~accept_from) on and nothing dropped.
 #  2. realtime (test/ros/config/fault_scenario.yaml, 14 s): the controller SIGSTOPped for 200 ms
 #     then SIGCONTed, and later its link down for 300 ms then up: the plant holds trim (WARN
 #     "holding trim", then "commands are back"), the controller goes stale on the link loss
@@ -87,6 +88,13 @@ stop_controller
 grep -Eq '"completed": ?true' "$WORK/lockstep.json" 2>/dev/null || fail "lockstep run did not complete ($(tail -3 "$WORK/lockstep.plant.log"))"
 "$BUILD/devel/lib/preadaptive_mrac/preadapt_sim" --scenario 1 --mode pa_learn --csv "$WORK/cli.csv" >/dev/null
 /usr/bin/python3 "$ROOT/bench/bag_vs_cli.py" "$WORK/lockstep.bag" "$WORK/cli.csv" --tol 0 || fail "bag differs from the CLI"
+# The launch file's caller-id guard (~accept_from) was on, took the peer across the link and
+# dropped nothing.
+grep -q "taking commands on /controller/elevator_cmd only from /mrac_controller" "$WORK/lockstep.plant.log" ||
+  fail "plant: no ~accept_from guard naming /mrac_controller"
+grep -q "taking /plant/state only from /plant_sim" "$WORK/lockstep.controller.log" ||
+  fail "controller: no ~accept_from guard naming /plant_sim"
+! grep -q "dropping messages on" "$WORK"/lockstep.*.log || fail "the guard dropped messages of the loop"
 
 # 2. realtime: controller host stalls, then its link goes down and up.
 echo "== realtime: SIGSTOP 200 ms, link down 300 ms"

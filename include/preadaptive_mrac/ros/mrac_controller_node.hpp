@@ -21,6 +21,7 @@
 #include "preadaptive_mrac/core/input_guard.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/publisher_guard.hpp"
 #include "preadaptive_mrac/ros/rate_meter.hpp"
 
 namespace preadaptive_mrac {
@@ -37,7 +38,8 @@ void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg);
 /// (Controller::needsTruth(): pa_learn_exact, oracle), plant/truth; publishes
 /// controller/elevator_cmd (answering each state's step), controller/attention (attention
 /// events and pa_robust's decisions) and controller/status (every step). All topics are
-/// relative to the node's namespace.
+/// relative to the node's namespace. States and truths are taken only from the publishers of
+/// ~accept_from (when set).
 class MracControllerNode {
  public:
   /// \brief Builds the controller (K, P at start-up), loads ~weights_in, advertises.
@@ -53,8 +55,8 @@ class MracControllerNode {
   void finish();
 
  private:
-  void stateCallback(const PlantState::ConstPtr& msg);
-  void truthCallback(const PlantTruth::ConstPtr& msg);
+  void stateCallback(const ros::MessageEvent<PlantState const>& event);
+  void truthCallback(const ros::MessageEvent<PlantTruth const>& event);
   /// \brief States waiting for their truth, in order, as far as the truth has arrived.
   void drainPending();
   /// \brief One controller step for a state (theta: its truth, or nullptr).
@@ -85,6 +87,8 @@ class MracControllerNode {
   ros::WallTimer start_timer_;
   double start_wall_ = 0.0;  ///< wall time [s] start() began waiting for subscribers
   diagnostic_updater::Updater updater_;
+  PublisherGuard input_guard_;             ///< ~accept_from on plant/state and plant/truth
+  std::string state_topic_, truth_topic_;  ///< resolved, for the guard's warnings
 
   ElevatorCommand::ConstPtr last_cmd_;  ///< the answer to the last state (sent again on a repeat)
   Vec x_, x_last_valid_;

@@ -14,6 +14,7 @@
 
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/publisher_guard.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
 namespace preadaptive_mrac {
@@ -65,6 +66,11 @@ class NodeContext {
   bool nodelet_ = false, required_ = true;
   std::shared_ptr<std::atomic<bool>> stopped_ = std::make_shared<std::atomic<bool>>(false);
 };
+
+/// \brief The node's guard for ~accept_from (`names` as read by the parameter reader): each
+/// name resolved in the node's namespace (ctx.nh(): a nodelet's own, not its manager's), the
+/// warnings logged with ROS_WARN.
+PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std::string>& names);
 
 /// \brief End this process with `code`: the first non-zero code requested wins (a refusal is
 /// not overwritten by a clean end of another node), then ros::requestShutdown(). main()

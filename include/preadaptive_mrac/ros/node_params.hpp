@@ -65,6 +65,10 @@ struct PlantNodeParams {
   int rt_priority = 0;
   /// ~cpu_affinity: realtime only: pin the tick thread to this CPU [0, 1023]; -1 = any CPU.
   int cpu_affinity = -1;
+  /// ~accept_from: node names (caller ids) whose commands are taken on controller/elevator_cmd,
+  /// relative ones resolved in the node's namespace; others are dropped and counted
+  /// (PublisherGuard). Empty = any publisher.
+  std::vector<std::string> accept_from;
 };
 
 /// \brief Everything mrac_controller_node reads from `~`.
@@ -95,6 +99,8 @@ struct ControllerNodeParams {
   /// Refused (no CAP_SYS_NICE): a warning, normal scheduling.
   int rt_priority = 0;
   int cpu_affinity = -1;  ///< ~cpu_affinity: pin those threads to this CPU; -1 = any
+  /// ~accept_from: node names (caller ids) whose states and truths are taken, as the plant's.
+  std::vector<std::string> accept_from;
 };
 
 /// \brief One start-up line naming every optional key filled with its default:

@@ -21,6 +21,7 @@
 #include "preadaptive_mrac/ros/latency_stats.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/publisher_guard.hpp"
 #include "preadaptive_mrac/ros/rate_meter.hpp"
 #include "preadaptive_mrac/ros/tick_source.hpp"
 
@@ -32,7 +33,8 @@ namespace ros1 {
 /// Topics are relative to the node's namespace, so a launch file can put a plant and a
 /// controller pair under /rac and another under /pa:
 /// - publishes plant/state (PlantState), plant/truth (PlantTruth), /tf, and in lockstep /clock;
-/// - subscribes controller/elevator_cmd (ElevatorCommand, tcpNoDelay).
+/// - subscribes controller/elevator_cmd (ElevatorCommand, tcpNoDelay), taking commands only
+///   from the publishers of ~accept_from (when set).
 ///
 /// Lockstep: for k = 0 .. total-1 publish /clock = t_k, truth k, state k, then wait (bounded by
 /// ~command_timeout) for the command whose step is k and advance with its u. Realtime: a
@@ -54,7 +56,7 @@ class PlantSimNode {
   RunReport report() const;
 
  private:
-  void commandCallback(const ElevatorCommand::ConstPtr& msg);
+  void commandCallback(const ros::MessageEvent<ElevatorCommand const>& event);
   void progressCallback(const RecorderProgress::ConstPtr& msg);
   /// \brief Lockstep back-pressure: wait (bounded by ~command_timeout) until the recorder has
   /// written state `step` - `lag`. False on timeout or shutdown.
@@ -64,6 +66,9 @@ class PlantSimNode {
   bool waitForSubscribers();
   /// \brief What the start-up wait lacks: subscriber counts, and whether a controller exists.
   std::string missingPeers() const;
+  /// \brief Why no command came (for the give-up errors): no publisher, a silent controller
+  /// (`silent`: "did not answer"), and any commands dropped by ~accept_from.
+  std::string noCommandCause(const char* silent) const;
   /// \brief With ~linger after a completed run: close every topic, then idle until shutdown.
   void linger();
   int runLockstep();
@@ -90,6 +95,8 @@ class PlantSimNode {
   ros::Subscriber cmd_sub_, progress_sub_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater updater_;
+  PublisherGuard cmd_guard_;  ///< ~accept_from on the command topic
+  std::string cmd_topic_;     ///< resolved command topic, for the guard's warnings
 
   double applied_u_ = 0.0;    ///< elevator over the previous step [rad]
   double theta_pitch_ = 0.0;  ///< integrated pitch angle [rad] (display only)
