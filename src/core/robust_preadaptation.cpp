@@ -318,9 +318,8 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   // window worse than it did, beyond noise. The regime's fit also carries the data since the
   // change and its prior; along the direction the plant shows now, the recent data is the
   // better judge (on a steady state a drift along it builds an error that rac would not have).
-  const int len = static_cast<int>(
-      std::min<std::int64_t>({static_cast<std::int64_t>(Ll_), k_ - post_start_k_ + 1,
-                              static_cast<std::int64_t>(count_)}));
+  const int len = static_cast<int>(std::min<std::int64_t>(
+      {static_cast<std::int64_t>(Ll_), k_ - post_start_k_ + 1, static_cast<std::int64_t>(count_)}));
   if (len > 0) {
     Vec phi;
     double y = 0.0;
