@@ -313,7 +313,26 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   for (int i = 0; i < n; ++i) Gl(i, i) += lambda;
   const Vec fit = prior_ + Gl.ldlt().solve(hr_ - Gr_ * prior_);
   const double step = std::min(1.0, rc_.cl_gain * Lc_ * dt_);
-  *theta_hat += step * (fit - *theta_hat);
+  Vec next = *theta_hat + step * (fit - *theta_hat);
+  // Do no harm along the recent data: the pull may not make theta_hat explain the last long
+  // window worse than it did, beyond noise. The regime's fit also carries the data since the
+  // change and its prior; along the direction the plant shows now, the recent data is the
+  // better judge (on a steady state a drift along it builds an error that rac would not have).
+  const int len = static_cast<int>(std::min<std::int64_t>(
+      {static_cast<std::int64_t>(Ll_), k_ - post_start_k_ + 1, static_cast<std::int64_t>(count_)}));
+  if (len > 0) {
+    Vec phi;
+    double y = 0.0;
+    windowSums(0, len, &phi, &y);
+    const double pp = phi.squaredNorm();
+    if (pp > 0.0) {
+      const double r0 = y - theta_hat->dot(phi);
+      const double r1 = y - next.dot(phi);
+      const double allowed = std::max(std::abs(r0), std::sqrt(rc_.significance) * chunkSigma());
+      if (std::abs(r1) > allowed) next += phi * ((r1 - (r1 > 0.0 ? allowed : -allowed)) / pp);
+    }
+  }
+  *theta_hat = next;
   return true;
 }
 
