@@ -52,6 +52,13 @@ SimResult run(const RunConfig& cfg, Controller* ctl, bool series = false) {
   return loop.run(opt);
 }
 
+// cfg's run in another mode.
+SimResult runAs(RunConfig cfg, Mode mode) {
+  cfg.controller.mode = mode;
+  Controller ctl(cfg.plant, cfg.controller);
+  return run(cfg, &ctl);
+}
+
 Vec vec3(double a, double b, double c) {
   Vec v(3);
   v << a, b, c;
@@ -287,14 +294,8 @@ TEST(Robust, FirstMoveOnNoisyDataDoesNotOverCompensate) {
   cfg.plant.noise.seed = 6ULL * 1000003ULL + 3ULL;
   const double t_switch = cfg.scenario.theta[1].until;
   ASSERT_NEAR(t_switch, 23.556, 1e-3);
-  auto runMode = [&](Mode mode) {
-    RunConfig c = cfg;
-    c.controller.mode = mode;
-    Controller ctl(c.plant, c.controller);
-    return run(c, &ctl);
-  };
-  const SimResult robust = runMode(Mode::kPaRobust);
-  const SimResult oracle = runMode(Mode::kOracle);
+  const SimResult robust = runAs(cfg, Mode::kPaRobust);
+  const SimResult oracle = runAs(cfg, Mode::kOracle);
   EXPECT_LE(robust.metrics.max_abs_u, 1.25 * oracle.metrics.max_abs_u)
       << robust.metrics.max_abs_u << " against the oracle's " << oracle.metrics.max_abs_u;
   // Not by standing still: theta_hat is set within the verification time after the switch.
@@ -303,7 +304,7 @@ TEST(Robust, FirstMoveOnNoisyDataDoesNotOverCompensate) {
     moved = moved || (ev.reset && ev.t > t_switch && ev.t < t_switch + 0.06);
   EXPECT_TRUE(moved);
   // And the error of the new regime's window stays a small fraction of rac's.
-  const SimResult rac = runMode(Mode::kRac);
+  const SimResult rac = runAs(cfg, Mode::kRac);
   EXPECT_LT(robust.metrics.windows[2].peak_abs_e, 0.5 * rac.metrics.windows[2].peak_abs_e);
 }
 
@@ -323,14 +324,8 @@ TEST(Robust, ConcurrentLearningDoesNoHarmAlongTheRecentData) {
   cfg.scenario.reference = {{50.0, 0.1}};
   ASSERT_NEAR(cfg.scenario.theta[1].until, 21.843, 1e-3);
   ASSERT_NEAR(cfg.scenario.theta[2].until, 41.06, 1e-3);
-  auto runMode = [&](Mode mode) {
-    RunConfig c = cfg;
-    c.controller.mode = mode;
-    Controller ctl(c.plant, c.controller);
-    return run(c, &ctl);
-  };
-  const SimResult robust = runMode(Mode::kPaRobust);
-  const SimResult rac = runMode(Mode::kRac);
+  const SimResult robust = runAs(cfg, Mode::kPaRobust);
+  const SimResult rac = runAs(cfg, Mode::kRac);
   ASSERT_EQ(robust.metrics.windows.size(), 4u);
   EXPECT_LE(robust.metrics.windows[3].peak_abs_e, 1.5 * rac.metrics.windows[3].peak_abs_e)
       << robust.metrics.windows[3].peak_abs_e << " against rac's "

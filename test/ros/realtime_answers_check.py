@@ -17,8 +17,7 @@ import unittest
 
 import rospy
 import rostest
-from preadaptive_mrac.msg import ElevatorCommand, PlantState
-from rostest_util import wait_for
+from rostest_util import subscribe_loop, wait_for
 
 PKG = "preadaptive_mrac"
 
@@ -33,16 +32,7 @@ class RealtimeAnswersTest(unittest.TestCase):
         self.stale = 0
         # Commands first, so that the command connection is up before the plant starts (it
         # waits for this node's state subscription: state_watchers:=1).
-        self.cmd_sub = rospy.Subscriber(
-            "controller/elevator_cmd",
-            ElevatorCommand,
-            self.on_cmd,
-            queue_size=None,
-            tcp_nodelay=True,
-        )
-        self.state_sub = rospy.Subscriber(
-            "plant/state", PlantState, self.on_state, queue_size=None, tcp_nodelay=True
-        )
+        subscribe_loop(self)
 
     def on_state(self, msg):
         with self.lock:

@@ -19,6 +19,20 @@ def wait_for(pred, timeout, what, poll=0.002):
     raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
 
 
+def subscribe_loop(test):
+    """Subscribe controller/elevator_cmd (first, so that the command connection is up before a
+    plant that waits for this node's state subscription starts) and plant/state, unbounded and
+    tcpNoDelay, to test.on_cmd and test.on_state; kept as test.cmd_sub and test.state_sub."""
+    from preadaptive_mrac.msg import ElevatorCommand, PlantState
+
+    test.cmd_sub = rospy.Subscriber(
+        "controller/elevator_cmd", ElevatorCommand, test.on_cmd, queue_size=None, tcp_nodelay=True
+    )
+    test.state_sub = rospy.Subscriber(
+        "plant/state", PlantState, test.on_state, queue_size=None, tcp_nodelay=True
+    )
+
+
 def read_episodes(path):
     """The `episodes:` count of a weights file, or None."""
     with open(path) as f:

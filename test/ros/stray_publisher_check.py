@@ -26,9 +26,8 @@ import unittest
 import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
-from preadaptive_mrac.msg import ElevatorCommand, PlantState
 from rosgraph_msgs.msg import Log
-from rostest_util import wait_for
+from rostest_util import subscribe_loop, wait_for
 
 PKG = "preadaptive_mrac"
 STRAY_U = 0.0123456
@@ -52,16 +51,7 @@ class StrayPublisherTest(unittest.TestCase):
         self.diag_sub = rospy.Subscriber(
             "/diagnostics", DiagnosticArray, self.on_diag, queue_size=1000
         )
-        self.cmd_sub = rospy.Subscriber(
-            "controller/elevator_cmd",
-            ElevatorCommand,
-            self.on_cmd,
-            queue_size=None,
-            tcp_nodelay=True,
-        )
-        self.state_sub = rospy.Subscriber(
-            "plant/state", PlantState, self.on_state, queue_size=None, tcp_nodelay=True
-        )
+        subscribe_loop(self)
 
     def tearDown(self):
         self.stop_strays()
