@@ -117,6 +117,22 @@ grep -q "commands are back" "$P" || fail "plant never reported commands back"
 grep -q "no valid state on" "$C" || fail "controller never went stale"
 grep -q "valid state again" "$C" || fail "controller never recovered from staleness"
 echo "plant: $(grep -c 'holding trim' "$P") trim episode(s); controller: $(grep -c 'no valid state on' "$C") stale episode(s); report: $(cat "$WORK/realtime.json" 2>/dev/null | cut -c1-200)"
+# 3. a delayed link (tc netem), where the kernel has it: lockstep does not care how long a
+# message takes, so a run at dt 0.01 through a link delayed by 2 ms each way gives the CLI's
+# bag bit for bit, only slower.
+echo "== lockstep scenario 1 at dt 0.01 through a link delayed by 2 ms each way (tc netem)"
+if ip netns exec "$A" tc qdisc add dev "$VA" root netem delay 2ms 2>"$WORK/netem.err" &&
+  ip netns exec "$B" tc qdisc add dev "$VB" root netem delay 2ms 2>>"$WORK/netem.err"; then
+  run delayed clock:=lockstep dt:=0.01 record:=true bag:="$WORK/delayed.bag" latency_report:="$WORK/delayed.json"
+  timeout 400 tail --pid="$PLANT_LAUNCH" -f /dev/null
+  stop_controller
+  grep -Eq '"completed": ?true' "$WORK/delayed.json" 2>/dev/null || fail "delayed lockstep run did not complete ($(tail -3 "$WORK/delayed.plant.log"))"
+  "$BUILD/devel/lib/preadaptive_mrac/preadapt_sim" --scenario 1 --mode pa_learn --dt 0.01 --csv "$WORK/cli_delayed.csv" >/dev/null
+  /usr/bin/python3 "$ROOT/bench/bag_vs_cli.py" "$WORK/delayed.bag" "$WORK/cli_delayed.csv" --tol 0 || fail "delayed-link bag differs from the CLI"
+  echo "delayed link: $(cut -c1-200 "$WORK/delayed.json" 2>/dev/null)"
+else
+  echo "delayed link: not run, tc netem refused here ($(head -1 "$WORK/netem.err"))"
+fi
 if [ "$RC" != 0 ]; then
   for f in "$WORK"/*.log; do echo "---- $f"; grep -E "ERROR|WARN|FATAL|holding|stale|valid state" "$f" | tail -15; done
 fi
