@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "preadaptive_mrac/core/small_ops.hpp"
+
 namespace preadaptive_mrac {
 
 MetricsAccumulator::MetricsAccumulator(const std::vector<double>& switch_times, double t_end,
@@ -82,7 +84,7 @@ void ScenarioPlant::sampleInputs() {
   const size_t ti = scenario_.thetaIndexFrom(t + 0.5 * dt_, theta_idx_);
   if (k_ == 0 || ti != theta_idx_) theta_ = scenario_.theta[ti].theta;
   theta_idx_ = ti;
-  measured_ = plant_.state();
+  copyTo(plant_.state(), &measured_);
   if (noisy_)
     for (Eigen::Index i = 0; i < measured_.size(); ++i)
       measured_[i] += noise_cfg_.std[i] * noise_.next();

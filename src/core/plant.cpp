@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
 
@@ -92,7 +93,7 @@ Plant::Plant(const PlantConfig& cfg)
   k3_.setZero(n);
   k4_.setZero(n);
   tmp_.setZero(n);
-  three_ = n == 3;
+  three_ = fastThree(n);
   if (three_) {
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) a3_[3 * i + j] = A_(i, j);

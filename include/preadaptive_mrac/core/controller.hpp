@@ -245,6 +245,8 @@ class SensitivityTracker {
   SensMat S_, Sdot_;
   double E_ = 0.0;
   Vec g_;
+  /// \brief The rest of accumulate() for n = 3 (after E), without run-time sizes.
+  void accumulate3(double dt, double sgn, const Vec& ev, const Vec& x, const Vec& theta_err);
 };
 
 /// \brief The whole controller: one step per sample, as in Fig. 1 of the paper.
