@@ -385,8 +385,12 @@ void SensitivityTracker::accumulate3(double dt, double sgn, const Vec& ev, const
 }
 
 Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
+    : Controller(plant, cfg, designController(plant.A, plant.B, cfg.Q, cfg.R)) {}
+
+Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg,
+                       const ControllerDesign& design)
     : cfg_(cfg),
-      design_(designController(plant.A, plant.B, cfg.Q, cfg.R)),
+      design_(design),
       n_(plant.n()),
       out_(plant.output_index),
       dt_(cfg.sample_time),

@@ -68,7 +68,7 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   }
   if (sections.plant && sections.controller && r.ok()) {
     try {
-      (void)designController(rc.plant.A, rc.plant.B, rc.controller.Q, rc.controller.R);
+      rc.design = designController(rc.plant.A, rc.plant.B, rc.controller.Q, rc.controller.R);
     } catch (const SolverError& e) {
       r.fail(keysForCause(e.cause()), std::string(e.what()) + " [" + e.cause() + "]");
     }

@@ -260,6 +260,9 @@ class Controller {
   /// \brief Derives K (CARE) and P (Lyapunov) from the plant's A, B and the config's Q, R;
   /// throws SolverError when that is impossible. The plant is known only through A, B, B1r.
   Controller(const PlantConfig& plant, const ControllerConfig& cfg);
+  /// \brief The same with K and P already solved: `design` must be designController() of
+  /// plant.A, plant.B, cfg.Q and cfg.R (RunConfig::design).
+  Controller(const PlantConfig& plant, const ControllerConfig& cfg, const ControllerDesign& design);
   /// \brief A snapshot: the copy has its own network and strategy state.
   Controller(const Controller& other);
   Controller& operator=(const Controller& other);
