@@ -179,6 +179,15 @@ class TestRender(unittest.TestCase):
         self.assertIn('  bench/run_bench.sh', self.text)
 
 
+class TestMedians(unittest.TestCase):
+    def test_one_repetition_has_no_aggregates(self):
+        one = {'benchmarks': [{'run_name': 'ClosedLoop/scenario3/rac', 'run_type': 'iteration'}]}
+        self.assertEqual(list(report.benchmark_medians(one)), ['ClosedLoop/scenario3/rac'])
+        med = report.benchmark_medians(results()['bench'])
+        self.assertEqual(med['ClosedLoop/scenario3/rac']['cpu_time'], 8.0)
+        self.assertIn('ControllerStep/rac/trajectory', med)
+
+
 class TestWrite(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.mkdtemp(prefix='pmrac_report_')

@@ -66,13 +66,16 @@ def load_results(d):
 
 
 def benchmark_medians(bench):
-    """{benchmark name without /iterations:N: its median aggregate}."""
-    med = {}
+    """{benchmark name without /iterations:N: its median aggregate}; with a single repetition
+    (no aggregates) the run itself."""
+    med, single = {}, {}
     for b in (bench or {}).get('benchmarks', []):
-        if b.get('aggregate_name') != 'median':
-            continue
-        med[re.sub(r'/iterations:\d+', '', b['run_name'])] = b
-    return med
+        name = re.sub(r'/iterations:\d+', '', b.get('run_name', b.get('name', '')))
+        if b.get('aggregate_name') == 'median':
+            med[name] = b
+        elif b.get('run_type', 'iteration') == 'iteration':
+            single[name] = b
+    return med or single
 
 
 def _header(meta):
