@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """Helpers of bench/run_bench.sh; the code is preadaptive_mrac.bench (timing, callgrind, report).
 
-    perf_report.py timeloop --reps N --out FILE -- CMD_A... ::: CMD_B...
-        Runs the two commands N times each, interleaved (A, B, A, ...), after one untimed run
-        of each, so that a change of load on the shared machine hits both alike. Records per
+    perf_report.py timeloop --reps N --out FILE -- CMD_A... ::: CMD_B... [::: CMD_C...]
+        Runs the commands N times each, interleaved (A, B, C, A, ...), after one untimed run
+        of each, so that a change of load on the shared machine hits them alike. Records per
         run: process wall time, the child's CPU time (user + sys), and the in-process
         wall_time_s of its JSON line.
     perf_report.py callgrind --out FILE --mode M --ir-file F [--excl-file F]
@@ -47,14 +47,14 @@ def cmd_timeloop(argv):
         sys.exit('usage: perf_report.py timeloop --reps N --out FILE -- CMD_A... ::: CMD_B...')
     i = argv.index('--')
     opts, rest = options(argv[:i]), argv[i + 1 :]
-    sep = rest.index(':::')
+    cmds = [[]]
+    for word in rest:
+        if word == ':::':
+            cmds.append([])
+        else:
+            cmds[-1].append(word)
     try:
-        res = timing.timeloop(
-            rest[:sep],
-            rest[sep + 1 :],
-            int(opts.get('reps', 5)),
-            log=lambda s: print(s, flush=True),
-        )
+        res = timing.timeloop(cmds, int(opts.get('reps', 5)), log=lambda s: print(s, flush=True))
     except timing.CommandFailed as e:
         sys.exit(str(e))
     with open(opts['out'], 'w') as f:

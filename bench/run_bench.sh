@@ -64,6 +64,9 @@ BENCH_CMD=("$BENCH" --benchmark_repetitions="$REPS" --benchmark_report_aggregate
 log "cross-check: prototype against the CLI (scenario 1, rac)"
 CLI_CMD=("$SIM" --scenario 1 --mode rac --json)
 PROTO_CMD=("$PY" bench/prototype_rac.py --quiet)
+# With a baseline build, its CLI is a third command of the same runs (the ratio before).
+BASE_CLI_CMD=()
+[[ -n "$BASE_SIM" ]] && BASE_CLI_CMD=("$BASE_SIM" --scenario 1 --mode rac --json)
 "${CLI_CMD[@]}" >"$RES/cli_s1_rac.json"
 "$PY" bench/prototype_rac.py --cli-json "$RES/cli_s1_rac.json" | tee "$RES/prototype_xcheck.txt" |
   grep -v '^{'
@@ -73,8 +76,9 @@ if command -v hyperfine >/dev/null 2>&1; then
   log "hyperfine: CLI vs prototype ($PY_RUNS runs each)"
   HF=(hyperfine -N --warmup 1 --runs "$PY_RUNS" --export-json "$RES/hyperfine.json"
       "${CLI_CMD[*]}" "${PROTO_CMD[*]}")
+  [[ -n "$BASE_SIM" ]] && HF+=("${BASE_CLI_CMD[*]}")
   "${HF[@]}"
-  HYPERFINE_CMD="hyperfine -N --warmup 1 --runs $PY_RUNS --export-json $RES/hyperfine.json '${CLI_CMD[*]}' '${PROTO_CMD[*]}'"
+  HYPERFINE_CMD="hyperfine -N --warmup 1 --runs $PY_RUNS --export-json $RES/hyperfine.json '${CLI_CMD[*]}' '${PROTO_CMD[*]}'${BASE_SIM:+ '${BASE_CLI_CMD[*]}'}"
 else
   echo "hyperfine not installed (apt-get install -y hyperfine): using the timing loop only"
 fi
@@ -82,6 +86,7 @@ fi
 log "interleaved timing loop: CLI vs prototype ($PY_RUNS runs each)"
 LOOP_CMD=("$PY" bench/perf_report.py timeloop --reps "$PY_RUNS" --out "$RES/timeloop.json" --
           "${CLI_CMD[@]}" ::: "${PROTO_CMD[@]}")
+[[ -n "$BASE_SIM" ]] && LOOP_CMD+=(::: "${BASE_CLI_CMD[@]}")
 "${LOOP_CMD[@]}"
 
 BASE_CMD=""

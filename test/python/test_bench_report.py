@@ -66,14 +66,18 @@ def results():
         ]
     }
     timeloop = {
-        'a_cmd': ['sim'],
-        'b_cmd': ['proto'],
+        'cmds': [['sim'], ['proto'], ['base_sim']],
         'reps': 3,
         'a': runs([0.010, 0.012, 0.011], [0.008, 0.009, 0.010], [0.004, 0.005, 0.006]),
         'b': runs([6.0, 6.6, 6.3], [5.9, 6.5, 6.2], [5.5, 5.6, 5.7]),
+        'c': runs([0.03] * 3, [0.02] * 3, [0.01] * 3),
     }
     hyperfine = {
-        'results': [{'median': 0.02, 'times': [0.02] * 5}, {'median': 6.0, 'times': [6] * 5}]
+        'results': [
+            {'median': 0.02, 'times': [0.02] * 5},
+            {'median': 6.0, 'times': [6] * 5},
+            {'median': 0.04, 'times': [0.04] * 5},
+        ]
     }
     baseline = {
         'commit': 'base123',
@@ -162,6 +166,16 @@ class TestRender(unittest.TestCase):
         )
         self.assertEqual(row(self.text, '| process CPU time')[3], '689x')
         self.assertEqual(row(self.text, '| in-process')[3], '1120x')
+
+    def test_prototype_against_the_baseline_build_too(self):
+        # The third command: hyperfine 6.0 / 0.04 = 150x; loop wall 6.3 / 0.03 = 210x.
+        prefix = '| baseline build (commit base123): '
+        self.assertEqual(row(self.text, prefix + 'process wall time, hyperfine')[3], '150x')
+        self.assertEqual(row(self.text, prefix + 'process wall time, interleaved')[3], '210x')
+        self.assertEqual(row(self.text, prefix + 'process CPU time')[3], '310x')
+        no_base = results()
+        no_base['baseline'] = None
+        self.assertNotIn('baseline build (commit', report.render(no_base))
 
     def test_baseline_table(self):
         self.assertEqual(

@@ -38,20 +38,26 @@ class TestRuns(unittest.TestCase):
         self.assertIn('(3)', str(ctx.exception))
         self.assertIn('broken', str(ctx.exception))
 
-    def test_timeloop_interleaves_and_counts_each_side(self):
+    def test_timeloop_interleaves_and_counts_each_command(self):
         lines = []
         a = py('print(\'{"wall_time_s": 0.001}\')')
         b = py('print(\'{"wall_time_s": 0.002}\')')
-        res = timing.timeloop(a, b, 2, log=lines.append)
+        c = py('print(\'{"wall_time_s": 0.003}\')')
+        res = timing.timeloop([a, b, c], 2, log=lines.append)
         self.assertEqual(res['reps'], 2)
-        self.assertEqual((len(res['a']), len(res['b'])), (2, 2))
-        self.assertEqual(res['a_cmd'], a)
-        # A, B, A, B: the log shows the order.
-        self.assertEqual([ln.split()[0] for ln in lines], ['a', 'b', 'a', 'b'])
+        self.assertEqual([len(res[k]) for k in 'abc'], [2, 2, 2])
+        self.assertEqual(res['cmds'], [a, b, c])
+        # A, B, C, A, B, C: the log shows the order.
+        self.assertEqual([ln.split()[0] for ln in lines], ['a', 'b', 'c', 'a', 'b', 'c'])
         self.assertNotIn('json', res['a'][0])
         m = timing.medians(res, 'b')
         self.assertEqual(m['inproc'], 0.002)
         self.assertEqual(set(m), {'wall', 'cpu', 'inproc'})
+        self.assertEqual(timing.medians(res, 'c')['inproc'], 0.003)
+
+    def test_timeloop_needs_two_commands(self):
+        with self.assertRaises(ValueError):
+            timing.timeloop([py('pass')], 1)
 
 
 if __name__ == '__main__':

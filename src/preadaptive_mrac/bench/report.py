@@ -237,7 +237,9 @@ def _baseline(meta, baseline, cg_new, cg_base):
     return L
 
 
-def _prototype(meta, tl, hf):
+def _prototype(meta, tl, hf, base_commit=None):
+    """This build's CLI against the prototype; a third command of the same hyperfine run and
+    interleaved loop, when present, is the baseline build's CLI (rows marked so)."""
     L = [
         '## C++ CLI against the Python/numpy prototype (scenario 1, rac, same work)',
         '',
@@ -254,23 +256,30 @@ def _prototype(meta, tl, hf):
         '|---|---:|---:|---:|---:|---|',
     ]
     rows = []
-    if hf:
-        c, p = hf['results'][0], hf['results'][1]
-        rows.append(
-            (
-                'process wall time, hyperfine (%d / %d runs)' % (len(c['times']), len(p['times'])),
-                c['median'],
-                p['median'],
+    builds = [('', 0, 'a')]
+    if base_commit and (len((hf or {}).get('results', [])) > 2 or (tl and 'c' in tl)):
+        builds.append(('baseline build (commit %s): ' % base_commit, 2, 'c'))
+    for prefix, hf_index, tl_key in builds:
+        if hf and len(hf['results']) > hf_index:
+            c, p = hf['results'][hf_index], hf['results'][1]
+            rows.append(
+                (
+                    '%sprocess wall time, hyperfine (%d / %d runs)'
+                    % (prefix, len(c['times']), len(p['times'])),
+                    c['median'],
+                    p['median'],
+                )
             )
-        )
-    if tl:
-        cli, py = timing.medians(tl, 'a'), timing.medians(tl, 'b')
-        for key, label in (
-            ('wall', 'process wall time, interleaved loop'),
-            ('cpu', 'process CPU time (user + sys), interleaved loop'),
-            ('inproc', 'in-process `wall_time_s` (design + run, no start-up/YAML)'),
-        ):
-            rows.append(('%s (%d runs each)' % (label, tl['reps']), cli[key], py[key]))
+        if tl and tl_key in tl:
+            cli, py = timing.medians(tl, tl_key), timing.medians(tl, 'b')
+            for key, label in (
+                ('wall', 'process wall time, interleaved loop'),
+                ('cpu', 'process CPU time (user + sys), interleaved loop'),
+                ('inproc', 'in-process `wall_time_s` (design + run, no start-up/YAML)'),
+            ):
+                rows.append(
+                    ('%s%s (%d runs each)' % (prefix, label, tl['reps']), cli[key], py[key])
+                )
     for label, c, p in rows:
         ratio = _ratio(p, c)
         L.append(
@@ -374,7 +383,8 @@ def render(results):
             meta, results['baseline'], results.get('callgrind'), results.get('callgrind_base')
         )
     if results.get('timeloop') or results.get('hyperfine'):
-        L += _prototype(meta, results.get('timeloop'), results.get('hyperfine'))
+        base_commit = (results.get('baseline') or {}).get('commit')
+        L += _prototype(meta, results.get('timeloop'), results.get('hyperfine'), base_commit)
     if results.get('callgrind'):
         L += _instructions(meta, results['callgrind'])
     L += [

@@ -41,15 +41,23 @@ def run_once(cmd):
     return {'wall': wall, 'cpu': cpu, 'inproc': out.get('wall_time_s'), 'json': out}
 
 
-def timeloop(cmd_a, cmd_b, reps, log=None):
-    """`reps` runs of each command, interleaved, after one untimed run of each (page cache,
-    dynamic loader). Returns {'a_cmd', 'b_cmd', 'reps', 'a': [run, ...], 'b': [...]}, each
-    run as run_once() without its JSON; `log(line)` hears of every run."""
-    res = {'a_cmd': list(cmd_a), 'b_cmd': list(cmd_b), 'reps': reps, 'a': [], 'b': []}
-    run_once(cmd_a)
-    run_once(cmd_b)
+KEYS = 'abcdefgh'
+
+
+def timeloop(cmds, reps, log=None):
+    """`reps` runs of each command of `cmds` (2 to 8 lists), interleaved (A, B, C, A, ...),
+    after one untimed run of each (page cache, dynamic loader). Returns {'cmds', 'reps', 'a':
+    [run, ...], 'b': [...], ...}, one key per command in order, each run as run_once() without
+    its JSON; `log(line)` hears of every run."""
+    if not 2 <= len(cmds) <= len(KEYS):
+        raise ValueError('timeloop: 2 to %d commands, got %d' % (len(KEYS), len(cmds)))
+    keys = KEYS[: len(cmds)]
+    res = {'cmds': [list(c) for c in cmds], 'reps': reps}
+    for key, cmd in zip(keys, cmds):
+        res[key] = []
+        run_once(cmd)
     for i in range(reps):
-        for key, cmd in (('a', cmd_a), ('b', cmd_b)):
+        for key, cmd in zip(keys, cmds):
             r = run_once(cmd)
             r.pop('json')
             res[key].append(r)
@@ -70,7 +78,7 @@ def timeloop(cmd_a, cmd_b, reps, log=None):
 
 
 def medians(res, key):
-    """Medians of one side ('a' or 'b') of a timeloop() result: {'wall', 'cpu', 'inproc'}."""
+    """Medians of one command ('a', 'b', ...) of a timeloop() result: {'wall', 'cpu', 'inproc'}."""
     runs = res[key]
     return {
         k: median([r[k] for r in runs if r.get(k) is not None]) for k in ('wall', 'cpu', 'inproc')
