@@ -9,6 +9,7 @@ setup(
         packages=[
             'preadaptive_mrac',
             'preadaptive_mrac.analysis',
+            'preadaptive_mrac.bench',
             'preadaptive_mrac.reproduction',
             'preadaptive_mrac.studies',
             'preadaptive_mrac.viz',

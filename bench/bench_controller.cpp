@@ -235,7 +235,8 @@ int main(int argc, char** argv) {
 
   std::vector<std::unique_ptr<Recording>> recs;
   try {
-    for (Mode m : {Mode::kRac, Mode::kPa, Mode::kPaLearn, Mode::kPaLearnExact}) {
+    for (Mode m : {Mode::kRac, Mode::kPa, Mode::kPaLearn, Mode::kPaLearnExact, Mode::kPaRobust,
+                   Mode::kOracle}) {
       recs.push_back(record(m));
       const std::string err = verifyReplay(*recs.back());
       if (!err.empty()) {

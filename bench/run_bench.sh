@@ -12,7 +12,12 @@
 #   PY_RUNS=5               runs of each command in the CLI-vs-prototype timing
 #   JOBS=2                  parallel compile jobs
 #   CALLGRIND=auto          1: count instructions with valgrind, 0: skip, auto: when installed
-#   OUT=docs/performance.md
+#   BASELINE_BUILD=         a build directory of another commit (preadapt_sim built there, e.g.
+#                           a git worktree at the base of a change): its CLI runs scenario 3 in
+#                           every mode interleaved with this build's, its outputs are compared
+#                           byte for byte, and (with callgrind) its instructions counted too
+#   BASE_RUNS=$PY_RUNS      runs of each build per mode against the baseline
+#   OUT=docs/performance.md (its sections the report does not write are kept)
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -23,6 +28,9 @@ PY_RUNS="${PY_RUNS:-5}"
 JOBS="${JOBS:-2}"
 CALLGRIND="${CALLGRIND:-auto}"
 OUT="${OUT:-docs/performance.md}"
+BASELINE_BUILD="${BASELINE_BUILD:-}"
+BASE_RUNS="${BASE_RUNS:-$PY_RUNS}"
+MODES=(rac pa pa_learn pa_learn_exact pa_robust oracle)
 PY=/usr/bin/python3
 RES="$BUILD_DIR/bench_results"
 
@@ -40,6 +48,11 @@ BIN="$BUILD_DIR/devel/lib/preadaptive_mrac"
 SIM="$BIN/preadapt_sim"
 BENCH="$BIN/bench_controller"
 [[ -x "$SIM" && -x "$BENCH" ]] || { echo "run_bench: $SIM or $BENCH not built" >&2; exit 1; }
+BASE_SIM=""
+if [[ -n "$BASELINE_BUILD" ]]; then
+  BASE_SIM="$BASELINE_BUILD/devel/lib/preadaptive_mrac/preadapt_sim"
+  [[ -x "$BASE_SIM" ]] || { echo "run_bench: $BASE_SIM not built" >&2; exit 1; }
+fi
 rm -rf "$RES"
 mkdir -p "$RES"
 
@@ -51,6 +64,9 @@ BENCH_CMD=("$BENCH" --benchmark_repetitions="$REPS" --benchmark_report_aggregate
 log "cross-check: prototype against the CLI (scenario 1, rac)"
 CLI_CMD=("$SIM" --scenario 1 --mode rac --json)
 PROTO_CMD=("$PY" bench/prototype_rac.py --quiet)
+# With a baseline build, its CLI is a third command of the same runs (the ratio before).
+BASE_CLI_CMD=()
+[[ -n "$BASE_SIM" ]] && BASE_CLI_CMD=("$BASE_SIM" --scenario 1 --mode rac --json)
 "${CLI_CMD[@]}" >"$RES/cli_s1_rac.json"
 "$PY" bench/prototype_rac.py --cli-json "$RES/cli_s1_rac.json" | tee "$RES/prototype_xcheck.txt" |
   grep -v '^{'
@@ -60,8 +76,9 @@ if command -v hyperfine >/dev/null 2>&1; then
   log "hyperfine: CLI vs prototype ($PY_RUNS runs each)"
   HF=(hyperfine -N --warmup 1 --runs "$PY_RUNS" --export-json "$RES/hyperfine.json"
       "${CLI_CMD[*]}" "${PROTO_CMD[*]}")
+  [[ -n "$BASE_SIM" ]] && HF+=("${BASE_CLI_CMD[*]}")
   "${HF[@]}"
-  HYPERFINE_CMD="hyperfine -N --warmup 1 --runs $PY_RUNS --export-json $RES/hyperfine.json '${CLI_CMD[*]}' '${PROTO_CMD[*]}'"
+  HYPERFINE_CMD="hyperfine -N --warmup 1 --runs $PY_RUNS --export-json $RES/hyperfine.json '${CLI_CMD[*]}' '${PROTO_CMD[*]}'${BASE_SIM:+ '${BASE_CLI_CMD[*]}'}"
 else
   echo "hyperfine not installed (apt-get install -y hyperfine): using the timing loop only"
 fi
@@ -69,24 +86,64 @@ fi
 log "interleaved timing loop: CLI vs prototype ($PY_RUNS runs each)"
 LOOP_CMD=("$PY" bench/perf_report.py timeloop --reps "$PY_RUNS" --out "$RES/timeloop.json" --
           "${CLI_CMD[@]}" ::: "${PROTO_CMD[@]}")
+[[ -n "$BASE_SIM" ]] && LOOP_CMD+=(::: "${BASE_CLI_CMD[@]}")
 "${LOOP_CMD[@]}"
+
+BASE_CMD=""
+BASE_CG_CMD=""
+if [[ -n "$BASE_SIM" ]]; then
+  BASE_COMMIT="$(git -C "$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$BASELINE_BUILD/CMakeCache.txt")" \
+                 rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  log "against the baseline build $BASELINE_BUILD (commit $BASE_COMMIT): scenario 3, every mode"
+  BASE_LOAD_BEFORE="$(cut -d' ' -f1-3 /proc/loadavg)"
+  IDENTICAL=""
+  strip_wall() { sed -E 's/"wall_time_s":[0-9.eE+-]+//'; }
+  for m in "${MODES[@]}"; do
+    "$SIM" --scenario 3 --mode "$m" --json --csv "$RES/same.new.csv" | strip_wall >"$RES/same.new.json"
+    "$BASE_SIM" --scenario 3 --mode "$m" --json --csv "$RES/same.base.csv" | strip_wall >"$RES/same.base.json"
+    if cmp -s "$RES/same.new.json" "$RES/same.base.json" && cmp -s "$RES/same.new.csv" "$RES/same.base.csv"; then
+      same=1
+    else
+      same=0
+    fi
+    echo "  $m: same bytes: $same"
+    IDENTICAL="${IDENTICAL:+$IDENTICAL,}$m=$same"
+    "$PY" bench/perf_report.py timeloop --reps "$BASE_RUNS" --out "$RES/timeloop_base.$m.json" -- \
+      "$SIM" --scenario 3 --mode "$m" --json ::: "$BASE_SIM" --scenario 3 --mode "$m" --json
+  done
+  rm -f "$RES"/same.*
+  BASE_CMD="for each mode: $PY bench/perf_report.py timeloop --reps $BASE_RUNS --out $RES/timeloop_base.<mode>.json -- $SIM --scenario 3 --mode <mode> --json ::: $BASE_SIM --scenario 3 --mode <mode> --json"
+fi
 
 CG_CMD=""
 if [[ "$CALLGRIND" == 1 || ( "$CALLGRIND" == auto && -x "$(command -v valgrind || true)" ) ]]; then
   log "callgrind: instructions per sample, scenario 3"
-  for m in rac pa pa_learn pa_learn_exact; do
+  for m in "${MODES[@]}"; do
     valgrind --tool=callgrind --callgrind-out-file="$RES/callgrind.$m.out" \
       "$SIM" --scenario 3 --mode "$m" --json >/dev/null 2>"$RES/callgrind.$m.log"
     callgrind_annotate --inclusive=yes "$RES/callgrind.$m.out" >"$RES/callgrind.$m.txt" 2>/dev/null
     callgrind_annotate "$RES/callgrind.$m.out" >"$RES/callgrind.$m.excl.txt" 2>/dev/null
     "$PY" bench/perf_report.py callgrind --out "$RES/callgrind.json" --mode "$m" \
       --ir-file "$RES/callgrind.$m.txt" --excl-file "$RES/callgrind.$m.excl.txt"
+    if [[ -n "$BASE_SIM" ]]; then
+      valgrind --tool=callgrind --callgrind-out-file="$RES/callgrind_base.$m.out" \
+        "$BASE_SIM" --scenario 3 --mode "$m" --json >/dev/null 2>"$RES/callgrind_base.$m.log"
+      callgrind_annotate --inclusive=yes "$RES/callgrind_base.$m.out" >"$RES/callgrind_base.$m.txt" 2>/dev/null
+      "$PY" bench/perf_report.py callgrind --out "$RES/callgrind_base.json" --mode "$m" \
+        --ir-file "$RES/callgrind_base.$m.txt"
+    fi
     echo "  $m done"
   done
   CG_CMD="valgrind --tool=callgrind --callgrind-out-file=$RES/callgrind.<mode>.out $SIM --scenario 3 --mode <mode> --json; callgrind_annotate --inclusive=yes $RES/callgrind.<mode>.out"
+  [[ -n "$BASE_SIM" ]] && BASE_CG_CMD="the same with $BASE_SIM (callgrind_base.<mode>.*)"
 fi
 
 LOAD_AFTER="$(cut -d' ' -f1-3 /proc/loadavg)"
+if [[ -n "$BASE_SIM" ]]; then
+  "$PY" bench/perf_report.py baseline --out "$RES/baseline.json" --commit "$BASE_COMMIT" \
+    --build-dir "$BASELINE_BUILD" --reps "$BASE_RUNS" --load "$BASE_LOAD_BEFORE / $LOAD_AFTER" \
+    --identical "$IDENTICAL" -- "$RES"/timeloop_base.*.json
+fi
 
 log "report"
 CXX="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
@@ -110,30 +167,10 @@ export META_CMDS="$(printf '%s\n' \
   "cross-check of the prototype|${CLI_CMD[*]} > $RES/cli_s1_rac.json && $PY bench/prototype_rac.py --cli-json $RES/cli_s1_rac.json" \
   "CLI vs prototype, hyperfine|${HYPERFINE_CMD:-not run (hyperfine not installed)}" \
   "CLI vs prototype, interleaved loop|${LOOP_CMD[*]}" \
-  "instruction counts|${CG_CMD:-not run}" \
-  "all of the above|bench/run_bench.sh  (REPS=$REPS PY_RUNS=$PY_RUNS)")"
-"$PY" - <<'EOF'
-import json, os
-res = os.environ["META_RES"]
-x = {}
-for line in open(os.path.join(res, "prototype_xcheck.txt")):
-    if line.startswith("{"):
-        x = json.loads(line).get("vs_cli", {})
-meta = {
-    "date": os.environ["META_DATE"], "cpu": os.environ["META_CPU"],
-    "nproc": os.environ["META_NPROC"], "kernel": os.environ["META_KERNEL"],
-    "load_before": os.environ["META_LOAD_BEFORE"], "load_after": os.environ["META_LOAD_AFTER"],
-    "compiler": os.environ["META_COMPILER"], "build_type": "Release",
-    "cxx_flags": os.environ["META_FLAGS"], "commit": os.environ["META_COMMIT"],
-    "dirty": os.environ["META_DIRTY"], "reps": os.environ["META_REPS"], "passes": 3,
-    "res": res,
-    "xcheck_peak": "%.2g" % x["max_abs_diff_peak_abs_e"] if x else "?",
-    "xcheck_iae": "%.2g" % x["max_abs_diff_iae"] if x else "?",
-    "xcheck_events": ("identical" if x.get("same_events") else "DIFFERENT") if x else "?",
-    "commands": [l.split("|", 1) for l in os.environ["META_CMDS"].splitlines() if l],
-}
-json.dump(meta, open(os.path.join(res, "meta.json"), "w"), indent=1)
-EOF
+  "against the baseline build|${BASE_CMD:-not run (no BASELINE_BUILD)}" \
+  "instruction counts|${CG_CMD:-not run}${BASE_CG_CMD:+; $BASE_CG_CMD}" \
+  "all of the above|bench/run_bench.sh  (REPS=$REPS PY_RUNS=$PY_RUNS${BASE_SIM:+ BASELINE_BUILD=$BASELINE_BUILD BASE_RUNS=$BASE_RUNS})")"
+"$PY" bench/perf_report.py meta --results "$RES"
 mkdir -p "$(dirname "$OUT")"
 "$PY" bench/perf_report.py report --results "$RES" --out "$OUT"
 echo

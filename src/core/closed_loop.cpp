@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "preadaptive_mrac/core/small_ops.hpp"
+
 namespace preadaptive_mrac {
 
 MetricsAccumulator::MetricsAccumulator(const std::vector<double>& switch_times, double t_end,
@@ -18,12 +20,17 @@ MetricsAccumulator::MetricsAccumulator(const std::vector<double>& switch_times, 
   }
 }
 
-int MetricsAccumulator::windowOf(double t) const {
+int MetricsAccumulator::windowOf(double t) {
   // A window holds (t_start, t_end]: the sample exactly at a switch still belongs to the old
   // theta, matching the scenario's segments. Sample 0 belongs to the first window.
-  for (size_t i = 0; i < m_.windows.size(); ++i)
-    if (t <= m_.windows[i].t_end) return static_cast<int>(i);
-  return static_cast<int>(m_.windows.size()) - 1;
+  // The first window with t <= t_end: no window before the one found for an earlier time
+  // holds a later one, so a later time searches on from there.
+  size_t i = t >= hint_t_ ? hint_ : 0;
+  while (i < m_.windows.size() && !(t <= m_.windows[i].t_end)) ++i;
+  if (i == m_.windows.size()) return static_cast<int>(m_.windows.size()) - 1;
+  hint_t_ = t;
+  hint_ = i;
+  return static_cast<int>(i);
 }
 
 void MetricsAccumulator::add(double t, double dt, double e, double u) {
@@ -51,6 +58,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       dt_(dt),
       limits_(plant.actuator),
       noise_cfg_(plant.noise),
+      noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {
   if (!(dt > 0.0)) throw std::invalid_argument("dt must be > 0");
   // Samples t_k = k dt with t_k < t_end (a tolerance guards against round-off in t_end / dt).
@@ -62,16 +70,22 @@ void ScenarioPlant::reset() {
   plant_.reset();
   k_ = 0;
   u_applied_ = 0.0;
+  theta_idx_ = r_idx_ = 0;
   noise_.reseed(noise_cfg_.seed);
   sampleInputs();
 }
 
 void ScenarioPlant::sampleInputs() {
   const double t = time();
-  r_ = scenario_.rAt(t);
-  theta_ = scenario_.thetaAt(t + 0.5 * dt_);
-  measured_ = plant_.state();
-  if (noise_cfg_.active())
+  // Scenario::rAt(t) and thetaAt(t + dt/2), searched on from the last sample's segments (t
+  // only grows between resets); theta is copied when its segment changes.
+  r_idx_ = scenario_.rIndexFrom(t, r_idx_);
+  r_ = scenario_.reference[r_idx_].r;
+  const size_t ti = scenario_.thetaIndexFrom(t + 0.5 * dt_, theta_idx_);
+  if (k_ == 0 || ti != theta_idx_) theta_ = scenario_.theta[ti].theta;
+  theta_idx_ = ti;
+  copyTo(plant_.state(), &measured_);
+  if (noisy_)
     for (Eigen::Index i = 0; i < measured_.size(); ++i)
       measured_[i] += noise_cfg_.std[i] * noise_.next();
 }
@@ -104,13 +118,11 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
     s.phase.reserve(static_cast<size_t>(steps));
     s.saturated.reserve(static_cast<size_t>(steps));
   }
-  Vec x;
   while (!sim.done()) {
     const double t = sim.time();
-    x = sim.measured();
     StepInput in;
     in.t = t;
-    in.x = &x;
+    in.x = &sim.measured();  // unchanged until sim.advance()
     in.r = sim.reference();
     in.theta_true = &sim.theta();
     const double u_applied = sim.lastApplied();

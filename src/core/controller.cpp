@@ -8,6 +8,7 @@
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/robust_preadaptation.hpp"
+#include "preadaptive_mrac/core/small_ops.hpp"
 #include "preadaptive_mrac/core/tunables.hpp"
 
 namespace preadaptive_mrac {
@@ -338,6 +339,10 @@ void SensitivityTracker::accumulate(double dt, const Vec& ev, const Vec& x, cons
   const double e = ev[out_];
   E_ += std::abs(e) * dt;
   const double sgn = (e > 0.0) - (e < 0.0);
+  if (fastThree(n_)) {
+    accumulate3(dt, sgn, ev, x, theta_err);
+    return;
+  }
   g_ += (sgn * dt) * S_.row(out_).transpose();
   // S_dot = Pi S without forming Pi: the blocks are rank-one updates of A_r and the identity.
   const auto top = S_.topRows(n_);
@@ -353,9 +358,39 @@ void SensitivityTracker::accumulate(double dt, const Vec& ev, const Vec& x, cons
   S_ += dt * Sdot_;
 }
 
+// accumulate() written out for three states, each sum in the order of Eigen's expressions
+// above (test_fast_paths compares the two): the lazy products summed from index 0 up, the
+// outer products added after them, B_i (row1 - row2)_j and row3_j (gamma x_i).
+void SensitivityTracker::accumulate3(double dt, double sgn, const Vec& ev, const Vec& x,
+                                     const Vec& theta_err) {
+  const double c = sgn * dt;
+  for (int j = 0; j < 3; ++j) g_[j] += c * S_(out_, j);
+  double row1[3], row2[3], row3[3];
+  for (int j = 0; j < 3; ++j) {
+    row1[j] = (theta_err[0] * S_(0, j) + theta_err[1] * S_(1, j)) + theta_err[2] * S_(2, j);
+    row2[j] = (x[0] * S_(3, j) + x[1] * S_(4, j)) + x[2] * S_(5, j);
+    row3[j] = (PB_[0] * S_(0, j) + PB_[1] * S_(1, j)) + PB_[2] * S_(2, j);
+  }
+  const double ce = gamma_ * dotOf(ev, PB_);
+  const double gx[3] = {gamma_ * x[0], gamma_ * x[1], gamma_ * x[2]};
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      Sdot_(i, j) = ((Ar_(i, 0) * S_(0, j) + Ar_(i, 1) * S_(1, j)) + Ar_(i, 2) * S_(2, j)) +
+                    B_[i] * (row1[j] - row2[j]);
+      Sdot_(3 + i, j) = ce * S_(i, j) + row3[j] * gx[i];
+    }
+  }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 6; ++i) S_(i, j) += dt * Sdot_(i, j);
+}
+
 Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
+    : Controller(plant, cfg, designController(plant.A, plant.B, cfg.Q, cfg.R)) {}
+
+Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg,
+                       const ControllerDesign& design)
     : cfg_(cfg),
-      design_(designController(plant.A, plant.B, cfg.Q, cfg.R)),
+      design_(design),
       n_(plant.n()),
       out_(plant.output_index),
       dt_(cfg.sample_time),
@@ -533,7 +568,7 @@ StepOutput Controller::step(const StepInput& in) {
     pending_.reset();
     out.tunables_applied = true;
   }
-  ev_ = x - x_r_;
+  differenceTo(x, x_r_, &ev_);
   out.e = ev_[out_];
   out.e_dot = vel_.update(out.e);
 
@@ -587,37 +622,34 @@ StepOutput Controller::step(const StepInput& in) {
     out.event = ev;
   }
 
-  out.u_baseline = -K_.dot(x);
-  out.u_adaptive = -theta_hat_.dot(x) + cfg_.k0 * in.r;
+  out.u_baseline = -dotOf(K_, x);
+  out.u_adaptive = -dotOf(theta_hat_, x) + cfg_.k0 * in.r;
   out.u_unsaturated = out.u_baseline + out.u_adaptive;
   // The command the actuator can follow; the plant applies the same limits.
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);
   out.saturated = out.u != out.u_unsaturated;
   u_prev_ = out.u;
   u_cmd_prev_ = out.u;
-  out.x_ref = x_r_;
-  out.theta_hat = theta_hat_;
+  copyTo(x_r_, &out.x_ref);
+  copyTo(theta_hat_, &out.theta_hat);
 
   if (attention_.phaseActive()) strategy_->duringPhase(smp, out.u, theta_hat_);
   // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x; frozen while the
   // elevator is limited (the plant does not get the u the law assumes), projected onto Omega.
   if (!(out.saturated && cfg_.freeze_when_saturated)) {
-    upd_ = (cfg_.gamma * ev_.dot(PB_)) * x;
+    scaledTo(cfg_.gamma * dotOf(ev_, PB_), x, &upd_);
     if (cfg_.projection) {
       project(theta_hat_, &upd_);
-      theta_hat_ += dt_ * upd_;
+      addScaled(dt_, upd_, &theta_hat_);
       clampToBall(&theta_hat_,
                   cfg_.theta_max);  // the Euler step can overshoot the boundary layer by O(dt)
     } else {
-      theta_hat_ += dt_ * upd_;
+      addScaled(dt_, upd_, &theta_hat_);
     }
   }
   if (strategy_->refine(&theta_hat_) && cfg_.projection) clampToBall(&theta_hat_, cfg_.theta_max);
   // Reference model (eq. refmodel), RK4 with r held over the sample.
-  Vec xr_next;
-  xr_next.noalias() = Phi_r_.lazyProduct(x_r_);
-  xr_next += Gam_r_ * in.r;
-  x_r_ = xr_next;
+  lazyProductPlus(Phi_r_, x_r_, Gam_r_, in.r, &x_r_);
   r_prev_ = in.r;
   return out;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
 
@@ -92,6 +93,14 @@ Plant::Plant(const PlantConfig& cfg)
   k3_.setZero(n);
   k4_.setZero(n);
   tmp_.setZero(n);
+  three_ = fastThree(n);
+  if (three_) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) a3_[3 * i + j] = A_(i, j);
+      b3_[i] = B_[i];
+      b1r3_[i] = B1r_[i];
+    }
+  }
 }
 
 void Plant::derivative(const Vec& x, const Vec& theta, double u, double r, Vec* xdot) const {
@@ -100,6 +109,13 @@ void Plant::derivative(const Vec& x, const Vec& theta, double u, double r, Vec* 
 }
 
 void Plant::step(double dt, const Vec& theta, double u, double r) {
+  if (three_)
+    step3(dt, theta, u, r);
+  else
+    stepGeneric(dt, theta, u, r);
+}
+
+void Plant::stepGeneric(double dt, const Vec& theta, double u, double r) {
   derivative(x_, theta, u, r, &k1_);
   tmp_ = x_ + 0.5 * dt * k1_;
   derivative(tmp_, theta, u, r, &k2_);
@@ -108,6 +124,36 @@ void Plant::step(double dt, const Vec& theta, double u, double r) {
   tmp_ = x_ + dt * k3_;
   derivative(tmp_, theta, u, r, &k4_);
   x_ += (dt / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_);
+}
+
+// stepGeneric() written out for three states. Floating-point addition is not associative, so
+// every sum is formed in the order Eigen forms it for n = 3: A x row by row from column 0 up
+// (the lazy product), theta . x as (t0 x0 + t1 x1) + t2 x2 (its dot product), then
+// A x + (B s + B1r r); the RK4 combination as in stepGeneric(). No -ffast-math, and x86-64
+// without -mfma has no fused multiply-add to contract into; test_plant compares the two paths
+// bit for bit on whatever target it is built for.
+void Plant::step3(double dt, const Vec& theta, double u, double r) {
+  const double* a = a3_;
+  const double th0 = theta[0], th1 = theta[1], th2 = theta[2];
+  const auto f = [&](const double* x, double* xd) {
+    const double s = ((th0 * x[0] + th1 * x[1]) + th2 * x[2]) + u;
+    for (int i = 0; i < 3; ++i) {
+      const double ax = (a[3 * i] * x[0] + a[3 * i + 1] * x[1]) + a[3 * i + 2] * x[2];
+      xd[i] = ax + (b3_[i] * s + b1r3_[i] * r);
+    }
+  };
+  const double x[3] = {x_[0], x_[1], x_[2]};
+  const double h2 = 0.5 * dt;
+  double k1[3], k2[3], k3[3], k4[3], tmp[3];
+  f(x, k1);
+  for (int i = 0; i < 3; ++i) tmp[i] = x[i] + h2 * k1[i];
+  f(tmp, k2);
+  for (int i = 0; i < 3; ++i) tmp[i] = x[i] + h2 * k2[i];
+  f(tmp, k3);
+  for (int i = 0; i < 3; ++i) tmp[i] = x[i] + dt * k3[i];
+  f(tmp, k4);
+  const double w = dt / 6.0;
+  for (int i = 0; i < 3; ++i) x_[i] = x[i] + w * (((k1[i] + 2.0 * k2[i]) + 2.0 * k3[i]) + k4[i]);
 }
 
 }  // namespace preadaptive_mrac

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/paper_preadaptation.hpp"
+#include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
 
@@ -98,20 +99,39 @@ RegimeMemory RobustPreadaptation::memory() {
   return RegimeMemory(&net_->state().regimes, rc_.memory_size);
 }
 
+// The generic branch of detect() written out for three states. Eigen evaluates A xm as a
+// matrix-vector product (GEMV): each row accumulated from 0 over the columns and then added
+// to the zeroed destination; the rest is element-wise.
+void RobustPreadaptation::residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi,
+                                          Vec* d) const {
+  const double xm[3] = {0.5 * (x_prev_[0] + x[0]), 0.5 * (x_prev_[1] + x[1]),
+                        0.5 * (x_prev_[2] + x[2])};
+  phi->resize(3);
+  d->resize(3);
+  for (int i = 0; i < 3; ++i) {
+    double c = A_(i, 0) * xm[0] + 0.0;
+    c = A_(i, 1) * xm[1] + c;
+    c = A_(i, 2) * xm[2] + c;
+    const double f = c + 0.0;
+    (*d)[i] = (x[i] - x_prev_[i]) - dt_ * ((f + B_[i] * u_prev) + B1r_[i] * r_prev);
+    (*phi)[i] = dt_ * xm[i];
+  }
+}
+
 int RobustPreadaptation::at(int j) const { return ((head_ - j) % cap_ + cap_) % cap_; }
 
 void RobustPreadaptation::push(const Vec& phi, double y, const Vec& theta_hat) {
   if (Ll_ > 0 && count_ >= Ll_) {  // the sample leaving the long window
-    phi_long_ -= phi_[static_cast<size_t>(at(Ll_ - 1))];
+    subtractFrom(phi_[static_cast<size_t>(at(Ll_ - 1))], &phi_long_);
     y_long_ -= y_[static_cast<size_t>(at(Ll_ - 1))];
   }
   head_ = (head_ + 1) % cap_;
-  phi_[static_cast<size_t>(head_)] = phi;
+  copyTo(phi, &phi_[static_cast<size_t>(head_)]);
   y_[static_cast<size_t>(head_)] = y;
-  th_[static_cast<size_t>(head_)] = theta_hat;
+  copyTo(theta_hat, &th_[static_cast<size_t>(head_)]);
   count_ = std::min(count_ + 1, cap_);
   if (Ll_ > 0) {
-    phi_long_ += phi;
+    addTo(phi, &phi_long_);
     y_long_ += y;
     // Rounding builds up in running sums: sum the window afresh every so often.
     if (++since_refresh_ >= 64 * Ll_ && count_ >= Ll_) {
@@ -122,8 +142,30 @@ void RobustPreadaptation::push(const Vec& phi, double y, const Vec& theta_hat) {
 }
 
 void RobustPreadaptation::windowSums(int j0, int len, Vec* phi, double* y) const {
-  phi->setZero(B_.size());
+  // Newest to oldest, from 0: the order of these sums is part of the results.
+  const Eigen::Index n = B_.size();
+  phi->setZero(n);
   *y = 0.0;
+  if (fastThree(n) && len > 0) {
+    // The B-747: three running scalars instead of a run-time sized vector, and the ring index
+    // of j + 1 as that of j less one, wrapping (at(j + 1), without its divisions).
+    size_t i = static_cast<size_t>(at(j0));
+    const size_t last = static_cast<size_t>(cap_) - 1;
+    double p0 = 0.0, p1 = 0.0, p2 = 0.0, ys = 0.0;
+    for (int c = 0; c < len; ++c) {
+      const double* v = phi_[i].data();
+      p0 += v[0];
+      p1 += v[1];
+      p2 += v[2];
+      ys += y_[i];
+      i = i == 0 ? last : i - 1;
+    }
+    (*phi)[0] = p0;
+    (*phi)[1] = p1;
+    (*phi)[2] = p2;
+    *y = ys;
+    return;
+  }
   for (int j = j0; j < j0 + len; ++j) {
     *phi += phi_[static_cast<size_t>(at(j))];
     *y += y_[static_cast<size_t>(at(j))];
@@ -138,14 +180,20 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   (void)attention;
   const Vec& x = *s.x;
   if (have_prev_) {
-    Vec xm = 0.5 * (x_prev_ + x);
-    Vec d = x - x_prev_;
-    Vec f;
-    f.noalias() = A_ * xm;
-    d -= dt_ * (f + B_ * s.u_prev + B1r_ * s.r_prev);
-    push(dt_ * xm, B_.dot(d) / bb_, theta_hat);
+    Vec phi, d;
+    if (fastThree(x.size())) {
+      residualSample3(x, s.u_prev, s.r_prev, &phi, &d);
+    } else {
+      Vec xm = 0.5 * (x_prev_ + x);
+      d = x - x_prev_;
+      Vec f;
+      f.noalias() = A_ * xm;
+      d -= dt_ * (f + B_ * s.u_prev + B1r_ * s.r_prev);
+      phi = dt_ * xm;
+    }
+    push(phi, dotOf(B_, d) / bb_, theta_hat);
   }
-  x_prev_ = x;
+  copyTo(x, &x_prev_);
   have_prev_ = true;
   ++k_;
   if (count_ < Ld_) return Detection::kNone;
@@ -154,7 +202,7 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   Vec phi;
   double y = 0.0;
   windowSums(0, Ld_, &phi, &y);
-  rho_ = (y - theta_hat.dot(phi)) / Td;
+  rho_ = (y - dotOf(theta_hat, phi)) / Td;
   const double thr = triggerThreshold();
 
   // Noise level from the change of the residual between adjacent windows: a constant mismatch
@@ -164,7 +212,7 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
     Vec phi_p;
     double y_p = 0.0;
     windowSums(Ld_, Ld_, &phi_p, &y_p);
-    const double delta = std::abs(rho_ - (y_p - theta_hat.dot(phi_p)) / Td);
+    const double delta = std::abs(rho_ - (y_p - dotOf(theta_hat, phi_p)) / Td);
     // A running mean over the first blocks, then an exponential one over noise_time.
     const double beta = std::max(1.0 / (noise_blocks_ + 1), std::min(1.0, Td / rc_.noise_time));
     if (!dev_init_) {
@@ -187,7 +235,7 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   // threshold for long. Its noise is endpoint noise, Ld_ / Ll_ of the short window's; it sees
   // only data since the last reset (older data is judged against a theta_hat it did not have).
   if (Ll_ > Ld_ && count_ >= Ll_ && k_ - last_trigger_k_ >= Ll_ && k_ - verify_end_k_ >= Ll_) {
-    rho_long_ = (y_long_ - theta_hat.dot(phi_long_)) / (Ll_ * dt_);
+    rho_long_ = (y_long_ - dotOf(theta_hat, phi_long_)) / (Ll_ * dt_);
     const double thr_long =
         std::max(rc_.threshold, rc_.noise_factor * noiseLevel() * static_cast<double>(Ld_) / Ll_);
     if (std::abs(rho_long_) > thr_long) {

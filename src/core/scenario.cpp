@@ -20,6 +20,20 @@ double Scenario::rAt(double t) const {
   return reference.back().r;
 }
 
+namespace {
+// The first segment from `from` on with t <= until, else the last: the search of thetaAt/rAt.
+template <typename Segment>
+size_t segmentFrom(const std::vector<Segment>& segs, double t, size_t from) {
+  for (size_t i = from; i < segs.size(); ++i)
+    if (t <= segs[i].until) return i;
+  return segs.empty() ? 0 : segs.size() - 1;
+}
+}  // namespace
+
+size_t Scenario::thetaIndexFrom(double t, size_t from) const { return segmentFrom(theta, t, from); }
+
+size_t Scenario::rIndexFrom(double t, size_t from) const { return segmentFrom(reference, t, from); }
+
 std::vector<double> Scenario::switchTimes() const {
   std::vector<double> out;
   for (size_t i = 0; i + 1 < theta.size(); ++i) out.push_back(theta[i].until);

@@ -1,5 +1,6 @@
 #include "preadaptive_mrac/io/setup.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -67,7 +68,7 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   }
   if (sections.plant && sections.controller && r.ok()) {
     try {
-      (void)designController(rc.plant.A, rc.plant.B, rc.controller.Q, rc.controller.R);
+      rc.design = designController(rc.plant.A, rc.plant.B, rc.controller.Q, rc.controller.R);
     } catch (const SolverError& e) {
       r.fail(keysForCause(e.cause()), std::string(e.what()) + " [" + e.cause() + "]");
     }
@@ -183,6 +184,10 @@ std::string scenarioToYaml(const Scenario& sc) {
 void writeSeriesCsv(const std::string& path, const Series& s) {
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "w"), &std::fclose);
   if (!f) throw FileError(path + ": cannot write CSV");
+  // Rows are formatted into one line buffer and written through a large stdio buffer: a run
+  // of scenario 3 is 140 000 rows of 20 numbers. std::to_chars with a precision is specified
+  // as printf's %.17g (and %d for the integers), so the bytes are the same.
+  std::setvbuf(f.get(), nullptr, _IOFBF, 1 << 20);
   const int n = s.x.empty() ? 0 : static_cast<int>(s.x.front().size());
   std::string header = "t";
   for (int i = 0; i < n; ++i) header += ",x" + std::to_string(i);
@@ -192,15 +197,43 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   for (int i = 0; i < n; ++i) header += ",theta_true" + std::to_string(i);
   header += ",phase,u_baseline,u_adaptive,r,saturated\n";
   std::fputs(header.c_str(), f.get());
+  std::string line;
+  char buf[64];
+  auto num = [&](double v) {
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::general, 17);
+    line.append(buf, r.ptr);
+  };
+  auto integer = [&](int v) {
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    line.append(buf, r.ptr);
+  };
+  auto vec = [&](const Vec& v) {
+    for (int i = 0; i < n; ++i) {
+      line += ',';
+      num(v[i]);
+    }
+  };
   for (size_t k = 0; k < s.t.size(); ++k) {
-    std::fprintf(f.get(), "%.17g", s.t[k]);
-    for (int i = 0; i < n; ++i) std::fprintf(f.get(), ",%.17g", s.x[k][i]);
-    for (int i = 0; i < n; ++i) std::fprintf(f.get(), ",%.17g", s.x_r[k][i]);
-    std::fprintf(f.get(), ",%.17g,%.17g,%.17g", s.e[k], s.e_dot[k], s.u[k]);
-    for (int i = 0; i < n; ++i) std::fprintf(f.get(), ",%.17g", s.theta_hat[k][i]);
-    for (int i = 0; i < n; ++i) std::fprintf(f.get(), ",%.17g", s.theta_true[k][i]);
-    std::fprintf(f.get(), ",%d,%.17g,%.17g,%.17g,%d\n", s.phase[k], s.u_bl[k], s.u_ad[k], s.r[k],
-                 s.saturated[k]);
+    line.clear();
+    num(s.t[k]);
+    vec(s.x[k]);
+    vec(s.x_r[k]);
+    for (double v : {s.e[k], s.e_dot[k], s.u[k]}) {
+      line += ',';
+      num(v);
+    }
+    vec(s.theta_hat[k]);
+    vec(s.theta_true[k]);
+    line += ',';
+    integer(s.phase[k]);
+    for (double v : {s.u_bl[k], s.u_ad[k], s.r[k]}) {
+      line += ',';
+      num(v);
+    }
+    line += ',';
+    integer(s.saturated[k]);
+    line += '\n';
+    std::fwrite(line.data(), 1, line.size(), f.get());
   }
   if (std::ferror(f.get())) throw FileError(path + ": write error");
 }

@@ -151,7 +151,10 @@ PreparedRun prepare(const RunRequest& req) {
 
 SimResult execute(const PreparedRun& run, bool record_series,
                   std::unique_ptr<Controller>* controller) {
-  auto ctl = std::make_unique<Controller>(run.cfg.plant, run.cfg.controller);
+  // K and P were solved when the configuration was validated: not again.
+  auto ctl = run.cfg.design
+                 ? std::make_unique<Controller>(run.cfg.plant, run.cfg.controller, *run.cfg.design)
+                 : std::make_unique<Controller>(run.cfg.plant, run.cfg.controller);
   if (run.weights) ctl->setNetwork(*run.weights);
   ClosedLoop loop(run.cfg.plant, run.cfg.scenario, ctl.get());
   SimOptions opt;

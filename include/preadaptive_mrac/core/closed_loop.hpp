@@ -39,8 +39,12 @@ class MetricsAccumulator {
   const RunMetrics& metrics() const { return m_; }
 
  private:
-  int windowOf(double t) const;
+  int windowOf(double t);
   RunMetrics m_;
+  // The window of the last look-up and its time: a later time searches on from there (the
+  // same answer as a search from the first window; runs move forward in time).
+  double hint_t_ = 0.0;
+  size_t hint_ = 0;
 };
 
 /// \brief Time series of a run (one row per sample).
@@ -88,9 +92,11 @@ class ScenarioPlant {
   Vec theta_;
   ActuatorLimits limits_;
   MeasurementNoise noise_cfg_;
+  bool noisy_ = false;  // noise_cfg_.active(), once
   GaussianSource noise_;
   Vec measured_;
   double u_applied_ = 0.0;
+  size_t theta_idx_ = 0, r_idx_ = 0;  // segments of the current sample (time only moves on)
 };
 
 /// \brief Options of a batch run.

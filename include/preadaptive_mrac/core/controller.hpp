@@ -245,6 +245,8 @@ class SensitivityTracker {
   SensMat S_, Sdot_;
   double E_ = 0.0;
   Vec g_;
+  /// \brief The rest of accumulate() for n = 3 (after E), without run-time sizes.
+  void accumulate3(double dt, double sgn, const Vec& ev, const Vec& x, const Vec& theta_err);
 };
 
 /// \brief The whole controller: one step per sample, as in Fig. 1 of the paper.
@@ -258,6 +260,9 @@ class Controller {
   /// \brief Derives K (CARE) and P (Lyapunov) from the plant's A, B and the config's Q, R;
   /// throws SolverError when that is impossible. The plant is known only through A, B, B1r.
   Controller(const PlantConfig& plant, const ControllerConfig& cfg);
+  /// \brief The same with K and P already solved: `design` must be designController() of
+  /// plant.A, plant.B, cfg.Q and cfg.R (RunConfig::design).
+  Controller(const PlantConfig& plant, const ControllerConfig& cfg, const ControllerDesign& design);
   /// \brief A snapshot: the copy has its own network and strategy state.
   Controller(const Controller& other);
   Controller& operator=(const Controller& other);

@@ -69,7 +69,8 @@ class Plant {
   explicit Plant(const PlantConfig& cfg);
 
   /// \brief Advance x by dt [s] with classic RK4; theta, u [rad] and r [rad] constant over the
-  /// step.
+  /// step. For n = 3 (the B-747 plant) an unrolled path with the same operations in the same
+  /// order, so the same bits (test_plant checks it against the generic path).
   void step(double dt, const Vec& theta, double u, double r);
   /// \brief Time derivative at (x, theta, u, r).
   void derivative(const Vec& x, const Vec& theta, double u, double r, Vec* xdot) const;
@@ -88,6 +89,13 @@ class Plant {
   Vec B_, B1r_, x0_, x_;
   int out_;
   Vec k1_, k2_, k3_, k4_, tmp_;
+  /// \brief The RK4 step of the generic path (any n), with Eigen's run-time sized types.
+  void stepGeneric(double dt, const Vec& theta, double u, double r);
+  /// \brief The RK4 step for n = 3 on scalars: no size checks or loops at run time.
+  void step3(double dt, const Vec& theta, double u, double r);
+  bool three_ = false;  // n == 3: step() takes step3()
+  double a3_[9] = {};   // A, row-major (n = 3)
+  double b3_[3] = {}, b1r3_[3] = {};
 };
 
 }  // namespace preadaptive_mrac

@@ -50,6 +50,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
   void push(const Vec& phi, double y, const Vec& theta_hat);
   /// Ring index of the sample j samples ago (0 = newest).
   int at(int j) const;
+  /// \brief For n = 3: phi = dt x_mid and the input-equivalent residual d of the last step.
+  void residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi, Vec* d) const;
   void windowSums(int j0, int len, Vec* phi, double* y) const;
   void decide(Vec* theta_hat, Event* ev);
   /// Add the chunk of the last Lc samples to the regime's statistics.

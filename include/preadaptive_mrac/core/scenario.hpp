@@ -35,6 +35,13 @@ struct Scenario {
   const Eigen::VectorXd& thetaAt(double t) const;
   /// \brief r at time t [rad].
   double rAt(double t) const;
+  /// \brief Index of the theta segment thetaAt(t) returns, searched from `from` on: the same
+  /// answer as long as `from` is the index returned for an earlier time (or 0), whatever the
+  /// segments (no segment before it matched the earlier time, so none matches a later one).
+  /// Lets a run that only moves forward in time find the segment without rescanning.
+  size_t thetaIndexFrom(double t, size_t from) const;
+  /// \brief The same for the reference segments (rAt).
+  size_t rIndexFrom(double t, size_t from) const;
   /// \brief Times where theta changes (every until but the last).
   std::vector<double> switchTimes() const;
 

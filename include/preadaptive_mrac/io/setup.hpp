@@ -4,6 +4,7 @@
 /// config files, reading all sections with every problem at once, and the run's JSON summary.
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct RunConfig {
   /// "full name = value" of every optional key or section that was absent and defaulted
   /// (what a node logs at start-up, so no default is silent).
   std::vector<std::string> defaults_used;
+  /// K (CARE) and P (Lyapunov) of plant.A, plant.B, controller.Q and controller.R as read:
+  /// validation solves them anyway, and a Controller built from this configuration can take
+  /// them instead of solving again. Empty unless both sections were read.
+  std::optional<ControllerDesign> design;
 };
 
 /// \brief Which sections to read (a plant node needs no controller, and so on).
