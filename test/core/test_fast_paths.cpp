@@ -143,15 +143,6 @@ TEST(FastPaths, PlantFollowsALongRunBitForBit) {
 
 namespace {
 
-SimResult runOnce(const RunConfig& cfg) {
-  Controller ctl(cfg.plant, cfg.controller);
-  ClosedLoop loop(cfg.plant, cfg.scenario, &ctl);
-  SimOptions opt;
-  opt.dt = cfg.controller.sample_time;
-  opt.record_series = true;
-  return loop.run(opt);
-}
-
 // The first difference between two runs, or "" when they agree bit for bit.
 std::string firstDifference(const SimResult& a, const SimResult& b) {
   const Series &s = a.series, &g = b.series;
@@ -200,11 +191,11 @@ TEST(FastPaths, WholeRunsOfEveryModeHaveTheBitsOfTheGenericPaths) {
                    Mode::kOracle}) {
       RunConfig cfg = *base;
       cfg.controller.mode = m;
-      const SimResult fast = runOnce(cfg);
+      const SimResult fast = test::simulate(cfg);
       SimResult generic;
       {
         GenericOnly g;
-        generic = runOnce(cfg);
+        generic = test::simulate(cfg);
       }
       EXPECT_GT(fast.events.size(), 0u) << modeName(m);
       EXPECT_EQ(firstDifference(fast, generic), "")

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
@@ -19,6 +20,17 @@ inline ParamValue packageTree(const std::string& scenario = "1") {
 
 inline RunConfig packageConfig(const std::string& scenario = "1") {
   return readRunConfig(packageTree(scenario));
+}
+
+/// \brief cfg's closed loop in the batch simulator at the controller's sample time, with the
+/// time series.
+inline SimResult simulate(const RunConfig& cfg) {
+  Controller ctl(cfg.plant, cfg.controller);
+  ClosedLoop loop(cfg.plant, cfg.scenario, &ctl);
+  SimOptions opt;
+  opt.dt = cfg.controller.sample_time;
+  opt.record_series = true;
+  return loop.run(opt);
 }
 
 }  // namespace test

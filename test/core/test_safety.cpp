@@ -9,17 +9,6 @@
 
 using namespace preadaptive_mrac;
 
-namespace {
-SimResult simulate(const RunConfig& cfg) {
-  Controller ctl(cfg.plant, cfg.controller);
-  ClosedLoop loop(cfg.plant, cfg.scenario, &ctl);
-  SimOptions opt;
-  opt.dt = cfg.controller.sample_time;
-  opt.record_series = true;
-  return loop.run(opt);
-}
-}  // namespace
-
 TEST(ActuatorLimits, RateThenMagnitude) {
   ActuatorLimits l;
   EXPECT_EQ(l.apply(5.0, 0.0, 0.001), 5.0);  // disabled: identity
@@ -37,7 +26,7 @@ TEST(ActuatorLimits, PlantAndControllerRespectThemAndAdaptationFreezes) {
   cfg.plant.actuator = {true, 0.3, 1.0};
   cfg.controller.mode = Mode::kPaLearn;
   cfg.controller.c_ed = 0.015;
-  const SimResult res = simulate(cfg);
+  const SimResult res = test::simulate(cfg);
   const Series& s = res.series;
   int saturated = 0;
   for (size_t k = 0; k < s.t.size(); ++k) {
@@ -57,7 +46,7 @@ TEST(ActuatorLimits, PlantAndControllerRespectThemAndAdaptationFreezes) {
   for (size_t k = 0; k < s.t.size(); ++k) ASSERT_TRUE(s.x[k].allFinite());
   // Without limits the same run exceeds them: the test exercises the limits.
   cfg.plant.actuator.enabled = false;
-  EXPECT_GT(simulate(cfg).metrics.max_abs_u, 0.3);
+  EXPECT_GT(test::simulate(cfg).metrics.max_abs_u, 0.3);
 }
 
 TEST(Projection, EstimatesStayInOmegaUnderNoiseAndLargeJumps) {
@@ -70,13 +59,13 @@ TEST(Projection, EstimatesStayInOmegaUnderNoiseAndLargeJumps) {
   const double theta_max = 4.0;  // smaller than scenario 3's true |theta| (up to 17.3)
   // Without projection the estimate leaves the ball: the check below can fail.
   double worst_free = 0.0;
-  for (const auto& th : simulate(cfg).series.theta_hat)
+  for (const auto& th : test::simulate(cfg).series.theta_hat)
     worst_free = std::max(worst_free, th.norm());
   ASSERT_GT(worst_free, theta_max);
   cfg.controller.projection = true;
   cfg.controller.theta_max = theta_max;
   cfg.controller.projection_epsilon = 0.1;
-  const SimResult res = simulate(cfg);
+  const SimResult res = test::simulate(cfg);
   double worst = 0.0;
   for (const auto& th : res.series.theta_hat) worst = std::max(worst, th.norm());
   EXPECT_LE(worst, theta_max * (1 + 1e-12));
@@ -91,10 +80,10 @@ TEST(Projection, EstimatesStayInOmegaUnderNoiseAndLargeJumps) {
 TEST(Projection, InsideTheInnerBallItChangesNothing) {
   RunConfig cfg = test::packageConfig("1");
   cfg.controller.mode = Mode::kRac;
-  const SimResult free = simulate(cfg);
+  const SimResult free = test::simulate(cfg);
   cfg.controller.projection = true;
   cfg.controller.theta_max = 25.0;  // scenario 1's estimate stays below 2
-  const SimResult proj = simulate(cfg);
+  const SimResult proj = test::simulate(cfg);
   ASSERT_EQ(free.series.theta_hat.size(), proj.series.theta_hat.size());
   for (size_t k = 0; k < free.series.t.size(); ++k)
     ASSERT_EQ((free.series.theta_hat[k] - proj.series.theta_hat[k]).norm(), 0.0);
@@ -103,14 +92,14 @@ TEST(Projection, InsideTheInnerBallItChangesNothing) {
 TEST(Noise, SeededAndReproducible) {
   RunConfig cfg = test::packageConfig("1");
   cfg.controller.mode = Mode::kRac;
-  const SimResult clean = simulate(cfg);
+  const SimResult clean = test::simulate(cfg);
   cfg.plant.noise.std = Eigen::Vector3d(0.0, 1e-3, 1e-3);
   cfg.plant.noise.seed = 7;
-  const SimResult a = simulate(cfg), b = simulate(cfg);
+  const SimResult a = test::simulate(cfg), b = test::simulate(cfg);
   EXPECT_EQ(a.series.e, b.series.e);
   EXPECT_NE(a.series.e, clean.series.e);
   cfg.plant.noise.seed = 8;
-  EXPECT_NE(simulate(cfg).series.e, a.series.e);
+  EXPECT_NE(test::simulate(cfg).series.e, a.series.e);
   // Sample statistics of the source: mean 0, variance 1.
   GaussianSource g(1);
   double m = 0, v = 0;
