@@ -105,6 +105,9 @@ MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerN
   cmd_pub_ = nh_.advertise<ElevatorCommand>("controller/elevator_cmd", q);
   attention_pub_ = nh_.advertise<AttentionEvent>("controller/attention", q);
   status_pub_ = nh_.advertise<AdaptationStatus>("controller/status", q);
+  // Latched true once this node takes states (a lockstep plant with ~wait_for_controller
+  // waits for it before step 0).
+  ready_pub_ = nh_.advertise<std_msgs::Bool>("controller/ready", 1, /*latch=*/true);
   updater_.setHardwareID("mrac_controller");
   updater_.add("controller", this, &MracControllerNode::diagnose);
   reconf_ = std::make_unique<ControllerReconfigure>(nh_, ros::NodeHandle(ctx.pnh(), "reconfigure"),
@@ -180,6 +183,9 @@ void MracControllerNode::subscribe() {
              input_guard_.acceptedText().c_str());
   stale_timer_ = nh_.createTimer(ros::Duration(params_.run.controller.sample_time),
                                  &MracControllerNode::staleTimerCallback, this);
+  const auto ready = boost::make_shared<std_msgs::Bool>();
+  ready->data = true;
+  ready_pub_.publish(std_msgs::Bool::ConstPtr(ready));
 }
 
 void MracControllerNode::finish() {

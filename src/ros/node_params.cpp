@@ -139,6 +139,7 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   requireRange(r, "command_timeout", p.command_timeout, 0.0, 1e6, true);
   p.resend_interval = r.getDouble("resend_interval", p.resend_interval);
   requireRange(r, "resend_interval", p.resend_interval, 0.0, 1e6, false);
+  p.wait_for_controller = r.getBool("wait_for_controller", p.wait_for_controller);
   p.shutdown_grace = r.getDouble("shutdown_grace", p.shutdown_grace);
   requireRange(r, "shutdown_grace", p.shutdown_grace, 0.0, 60.0, false);
   p.latency_report = r.getString("latency_report", "");
@@ -171,6 +172,7 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                          "start_timeout",
                          "command_timeout",
                          "resend_interval",
+                         "wait_for_controller",
                          "shutdown_grace",
                          "latency_report",
                          "queue_size",

@@ -3,6 +3,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/Bool.h>
 
 #include <boost/make_shared.hpp>
 #include <cmath>
@@ -66,6 +67,12 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
   if (cmd_guard_.enabled())
     ROS_INFO("taking commands on %s only from %s (~accept_from)", cmd_topic_.c_str(),
              cmd_guard_.acceptedText().c_str());
+  if (params_.wait_for_controller && params_.clock == ClockMode::kLockstep) {
+    ready_sub_ = own.subscribe<std_msgs::Bool>(
+        "controller/ready", 1, [this](const std_msgs::Bool::ConstPtr& m) {
+          if (m->data) controller_ready_ = true;
+        });
+  }
   if (!params_.recorder_progress_topic.empty()) {
     progress_sub_ =
         own.subscribe(params_.recorder_progress_topic, 100, &PlantSimNode::progressCallback, this,
@@ -188,7 +195,8 @@ bool PlantSimNode::waitForSubscribers() {
     // manager its subscriptions share the connection of the controller's and are not counted.
     if (static_cast<int>(state_pub_.getNumSubscribers()) >= params_.min_state_subscribers &&
         static_cast<int>(truth_pub_.getNumSubscribers()) >= params_.min_truth_subscribers &&
-        (!progress_sub_ || progress_sub_.getNumPublishers() > 0))
+        (!progress_sub_ || progress_sub_.getNumPublishers() > 0) &&
+        (!ready_sub_ || controller_ready_))
       return true;
     const double waited = wallNow() - start;
     if (timeout > 0.0 && !warned && waited > 0.5 * timeout) {
@@ -201,8 +209,12 @@ bool PlantSimNode::waitForSubscribers() {
                 timeout, missingPeers().c_str(), kExitRuntimeError);
       return false;
     }
-    // Connections are made by roscpp's own threads; poll them in short bounded waits.
-    ros::WallDuration(0.002).sleep();
+    // Connections are made by roscpp's own threads; poll them in short bounded waits (and
+    // take controller/ready, which comes on this node's own queue).
+    if (ready_sub_)
+      queue_.callAvailable(ros::WallDuration(0.002));
+    else
+      ros::WallDuration(0.002).sleep();
   }
   return false;
 }
@@ -216,6 +228,9 @@ std::string PlantSimNode::missingPeers() const {
                   std::to_string(params_.min_truth_subscribers) + " on " + truth_pub_.getTopic();
   if (progress_sub_ && progress_sub_.getNumPublishers() == 0)
     s += "; no recorder publishes " + progress_sub_.getTopic();
+  if (ready_sub_ && !controller_ready_)
+    s += "; the controller has not said it takes states on " + ready_sub_.getTopic() +
+         " (~wait_for_controller)";
   if (cmd_sub_.getNumPublishers() == 0) {
     s += "; no node publishes " + cmd_sub_.getTopic() +
          ": the controller is not running (one that refuses its parameters exits with code 2 "
@@ -386,6 +401,7 @@ void PlantSimNode::linger() {
   clock_pub_.shutdown();
   cmd_sub_.shutdown();
   progress_sub_.shutdown();
+  ready_sub_.shutdown();
   ROS_INFO("plant_sim: run complete, topics closed; staying alive until shut down (~linger)");
   while (ctx_.ok()) ros::WallDuration(0.05).sleep();
 }

@@ -4,6 +4,7 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
+#include <std_msgs/Bool.h>
 
 #include <array>
 #include <cstdint>
@@ -82,6 +83,7 @@ class MracControllerNode {
   ControllerNodeParams params_;
   Controller ctl_;
   ros::Publisher cmd_pub_, attention_pub_, status_pub_;
+  ros::Publisher ready_pub_;  ///< controller/ready, latched true once states are taken
   ros::Subscriber state_sub_, truth_sub_;
   ros::Timer stale_timer_;
   ros::WallTimer start_timer_;

@@ -41,6 +41,12 @@ struct PlantNodeParams {
   double command_timeout = 10.0;  ///< ~command_timeout: lockstep wait for one command [s] (> 0)
   double resend_interval = 1.0;   ///< ~resend_interval: lockstep re-publishes an unanswered
                                   ///< state after this wall time [s]; 0 = never
+  /// ~wait_for_controller: lockstep: before step 0 also wait for the controller's latched
+  /// controller/ready (sent once it takes states). In a nodelet manager a recorder's state
+  /// subscription is the controller's connection too, so the subscriber count cannot tell
+  /// whether the controller has subscribed; without this its first state could be lost and
+  /// re-sent after ~resend_interval (a duplicate step 0 in the bag).
+  bool wait_for_controller = false;
   double shutdown_grace = 0.5;    ///< ~shutdown_grace: wall time kept alive after the end [s]
   std::string latency_report;     ///< ~latency_report: JSON summary path ("" = none)
   int queue_size = 0;             ///< ~queue_size: per-subscriber outgoing queue of the
