@@ -68,10 +68,10 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
     ROS_INFO("taking commands on %s only from %s (~accept_from)", cmd_topic_.c_str(),
              cmd_guard_.acceptedText().c_str());
   if (params_.wait_for_controller && params_.clock == ClockMode::kLockstep) {
-    ready_sub_ = own.subscribe<std_msgs::Bool>(
-        "controller/ready", 1, [this](const std_msgs::Bool::ConstPtr& m) {
-          if (m->data) controller_ready_ = true;
-        });
+    ready_sub_ = own.subscribe<std_msgs::Bool>("controller/ready", 1,
+                                               [this](const std_msgs::Bool::ConstPtr& m) {
+                                                 if (m->data) controller_ready_ = true;
+                                               });
   }
   if (!params_.recorder_progress_topic.empty()) {
     progress_sub_ =

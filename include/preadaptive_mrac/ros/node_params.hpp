@@ -47,10 +47,10 @@ struct PlantNodeParams {
   /// whether the controller has subscribed; without this its first state could be lost and
   /// re-sent after ~resend_interval (a duplicate step 0 in the bag).
   bool wait_for_controller = false;
-  double shutdown_grace = 0.5;    ///< ~shutdown_grace: wall time kept alive after the end [s]
-  std::string latency_report;     ///< ~latency_report: JSON summary path ("" = none)
-  int queue_size = 0;             ///< ~queue_size: per-subscriber outgoing queue of the
-                                  ///< per-step topics; 0 = unbounded (nothing dropped)
+  double shutdown_grace = 0.5;          ///< ~shutdown_grace: wall time kept alive after the end [s]
+  std::string latency_report;           ///< ~latency_report: JSON summary path ("" = none)
+  int queue_size = 0;                   ///< ~queue_size: per-subscriber outgoing queue of the
+                                        ///< per-step topics; 0 = unbounded (nothing dropped)
   std::string recorder_progress_topic;  ///< ~recorder_progress_topic: bag_recorder_node's
                                         ///< ~progress; lockstep waits for it ("" = no recorder)
   int max_recorder_lag = 2000;  ///< ~max_recorder_lag: steps the recorder may fall behind (>= 1)

@@ -93,7 +93,7 @@ class PlantSimNode {
   ros::Publisher done_pub_;
   PlantState::ConstPtr last_state_;
   ros::Subscriber cmd_sub_, progress_sub_;
-  ros::Subscriber ready_sub_;  ///< controller/ready (~wait_for_controller, lockstep)
+  ros::Subscriber ready_sub_;      ///< controller/ready (~wait_for_controller, lockstep)
   bool controller_ready_ = false;  ///< set on queue_ (the plant's own thread)
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater updater_;
