@@ -9,17 +9,9 @@
 # The full set: scripts/config_mutation_study (about 10 minutes).
 #   Env: PMRAC_BUILD_DIR (default build), PMRAC_MUTATION_SAMPLE (25), PMRAC_MUTATION_SEED (10).
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-if [ ! -f "$BUILD/devel/setup.bash" ]; then
-  echo "SKIPPED: config_mutations: $BUILD/devel/setup.bash not found (build first)"
-  exit 77
-fi
-set +u
-# shellcheck disable=SC1091
-source "$BUILD/devel/setup.bash"
-set -u
-command -v roslaunch >/dev/null || { echo "SKIPPED: config_mutations: roslaunch not installed"; exit 77; }
+TEST_NAME=config_mutations
+# shellcheck source=test/scripts/lib/ros_build.sh
+source "$(dirname "$0")/lib/ros_build.sh"
 export ROS_HOSTNAME=localhost
 RC=0
 /usr/bin/python3 "$ROOT/scripts/config_mutation_study" --check --clock mixed \

@@ -6,17 +6,9 @@
 # (without the wait, step 0 goes unanswered and is re-sent after ~resend_interval) and the
 # first command answers step 0.
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-if [ ! -f "$BUILD/devel/setup.bash" ]; then
-  echo "SKIPPED: late_controller: $BUILD/devel/setup.bash not found (build first)"
-  exit 77
-fi
-set +u
-# shellcheck disable=SC1091
-source "$BUILD/devel/setup.bash"
-set -u
-command -v roslaunch >/dev/null || { echo "SKIPPED: late_controller: roslaunch not installed"; exit 77; }
+TEST_NAME=late_controller
+# shellcheck source=test/scripts/lib/ros_build.sh
+source "$(dirname "$0")/lib/ros_build.sh"
 W=$(mktemp -d /tmp/pmrac_late_controller.XXXXXX)
 export PMRAC_LATE_CONTROLLER_REPORT=$W/plant.json
 "$ROOT/scripts/lib/launch_checked" --quiet --timeout 90 --log "$W/launch.log" \

@@ -7,19 +7,13 @@
 # message lacks is refused with exit 2 naming it.
 #   Env: PMRAC_BUILD_DIR (default build).
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
 PY=/usr/bin/python3
-skip() { echo "SKIPPED: live_plot: $*"; exit 77; }
-[ -f "$BUILD/devel/setup.bash" ] || skip "$BUILD/devel/setup.bash not found (build first)"
+TEST_NAME=live_plot
+# shellcheck source=test/scripts/lib/ros_build.sh
+source "$(dirname "$0")/lib/ros_build.sh"
 command -v Xvfb >/dev/null || skip "Xvfb not installed (apt-get install xvfb)"
 "$PY" -c 'import matplotlib, tkinter, rospy, genpy, PIL' 2>/dev/null ||
   skip "$PY lacks matplotlib, tkinter, rospy, genpy or PIL"
-set +u
-# shellcheck disable=SC1091
-source "$BUILD/devel/setup.bash"
-set -u
-command -v roslaunch >/dev/null || skip "roslaunch not installed"
 export PMRAC_BUILD_DIR=$BUILD
 W=$(mktemp -d "${TMPDIR:-/tmp}/live_plot_test.XXXXXX")
 PIDS=()

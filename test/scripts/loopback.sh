@@ -9,17 +9,11 @@
 # checked, and the reason for the shim stays measured.
 #   Env: PMRAC_BUILD_DIR (default build).
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-skip() { echo "SKIPPED: loopback: $*"; exit 77; }
-[ -f "$BUILD/devel/setup.bash" ] || skip "$BUILD/devel/setup.bash not found (build first)"
+TEST_NAME=loopback
+# shellcheck source=test/scripts/lib/ros_build.sh
+source "$(dirname "$0")/lib/ros_build.sh"
 [ -f "$BUILD/devel/lib/libpmrac_loopback_bind.so" ] || skip "libpmrac_loopback_bind.so not built"
 command -v ss >/dev/null || skip "ss not installed (apt-get install iproute2)"
-set +u
-# shellcheck disable=SC1091
-source "$BUILD/devel/setup.bash"
-set -u
-command -v roslaunch >/dev/null || skip "roslaunch not installed"
 export PMRAC_BUILD_DIR=$BUILD
 W=$(mktemp -d "${TMPDIR:-/tmp}/loopback_test.XXXXXX")
 LC_PID=""

@@ -6,17 +6,9 @@
 # starts 4 s after a scenario-1 run at dt 0.01 (0.2 s of work); the launch must end with 0.
 # Without plant/done the monitor never sees the plant and the launch runs into the timeout.
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-if [ ! -f "$BUILD/devel/setup.bash" ]; then
-  echo "SKIPPED: run_monitor_late: $BUILD/devel/setup.bash not found (build first)"
-  exit 77
-fi
-set +u
-# shellcheck disable=SC1091
-source "$BUILD/devel/setup.bash"
-set -u
-command -v roslaunch >/dev/null || { echo "SKIPPED: run_monitor_late: roslaunch not installed"; exit 77; }
+TEST_NAME=run_monitor_late
+# shellcheck source=test/scripts/lib/ros_build.sh
+source "$(dirname "$0")/lib/ros_build.sh"
 W=$(mktemp -d /tmp/pmrac_monitor_late.XXXXXX)
 FAIL=0
 for shape in process nodelet; do
