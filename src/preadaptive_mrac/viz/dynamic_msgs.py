@@ -20,10 +20,13 @@ _GENERATE_LOCK = threading.Lock()
 
 class DynamicSubscriber:
     """Subscribes with rospy.AnyMsg and deserialises with a class generated from the
-    connection header's message definition (cached per type and md5)."""
+    connection header's message definition (cached per type and md5). A message whose
+    publisher sent no definition is skipped, with a warning every 10 s naming `warn_label`
+    (None: silently)."""
 
-    def __init__(self, topic, callback, queue_size):
+    def __init__(self, topic, callback, queue_size, warn_label='viz_markers'):
         self._callback = callback
+        self._warn_label = warn_label
         self._classes = {}
         self._sub = rospy.Subscriber(topic, rospy.AnyMsg, self._on_raw, queue_size=queue_size)
 
@@ -33,9 +36,12 @@ class DynamicSubscriber:
         cls = self._classes.get(key)
         if cls is None:
             if not key[0] or 'message_definition' not in hdr:
-                rospy.logwarn_throttle(
-                    10.0, 'viz_markers: no message definition on %s' % self._sub.resolved_name
-                )
+                if self._warn_label is not None:
+                    rospy.logwarn_throttle(
+                        10.0,
+                        '%s: no message definition on %s'
+                        % (self._warn_label, self._sub.resolved_name),
+                    )
                 return
             with _GENERATE_LOCK:
                 cls = genpy.dynamic.generate_dynamic(key[0], hdr['message_definition'])[key[0]]

@@ -130,30 +130,16 @@ class Series:
 
 
 class TopicFeed:
-    """One subscription (rospy.AnyMsg + a class generated from the connection header) and
-    the lines it feeds."""
+    """One subscription (dynamic_msgs.DynamicSubscriber: rospy.AnyMsg + a class generated from
+    the connection header) and the lines it feeds."""
 
-    def __init__(self, rospy, genpy_dynamic, topic, fields, plot):
+    def __init__(self, subscriber_class, topic, fields, plot):
         self.topic = topic
         self.fields = [(f, split_fields(f)) for f in fields]
         self.plot = plot
-        self.cls = {}
-        self.genpy_dynamic = genpy_dynamic
-        self.rospy = rospy
-        self.sub = rospy.Subscriber(topic, rospy.AnyMsg, self.on_raw, queue_size=200)
+        self.sub = subscriber_class(topic, self.on_msg, 200, warn_label=None)
 
-    def on_raw(self, raw):
-        hdr = getattr(raw, '_connection_header', None) or {}
-        key = (hdr.get('type'), hdr.get('md5sum'))
-        cls = self.cls.get(key)
-        if cls is None:
-            if not key[0] or 'message_definition' not in hdr:
-                return
-            with self.plot.lock:
-                cls = self.genpy_dynamic.generate_dynamic(key[0], hdr['message_definition'])[key[0]]
-            self.cls[key] = cls
-        msg = cls()
-        msg.deserialize(raw._buff)
+    def on_msg(self, msg):
         h = getattr(msg, 'header', None)
         stamp = h.stamp.to_sec() if h is not None and hasattr(h, 'stamp') else 0.0
         t = stamp if stamp > 0.0 else time.time()
@@ -238,9 +224,10 @@ def main(description=__doc__):
     if args.headless:
         matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    import genpy.dynamic
     import rosgraph
     import rospy
+
+    from preadaptive_mrac.viz.dynamic_msgs import DynamicSubscriber
 
     rospy.init_node('live_plot', anonymous=True, disable_signals=True)
     stop = threading.Event()
@@ -282,7 +269,7 @@ def main(description=__doc__):
                 if topic in feeds:  # one subscription per topic
                     feeds[topic].fields += [(f, split_fields(f)) for f in fields]
                 else:
-                    feeds[topic] = TopicFeed(rospy, genpy.dynamic, topic, fields, plot)
+                    feeds[topic] = TopicFeed(DynamicSubscriber, topic, fields, plot)
                 pending.remove(spec)
             if pending and now - start > 5.0 and not warned:
                 print(
