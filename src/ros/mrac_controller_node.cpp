@@ -236,8 +236,8 @@ void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>
   if (!input_guard_.admitEvent(event, state_topic_)) return;
   const PlantState::ConstPtr msg = event.getConstMessage();
   if (params_.rt_priority > 0 || params_.cpu_affinity >= 0) {
-    // Whichever thread runs this callback (a nodelet's callbacks may move between the
-    // manager's worker threads) gets ~rt_priority / ~cpu_affinity, once.
+    // The thread that runs this callback (the process's spinner, or the nodelet's own
+    // thread: src/ros/nodelets.cpp) gets ~rt_priority / ~cpu_affinity, once.
     thread_local bool scheduled = false;
     if (!scheduled) {
       scheduled = true;

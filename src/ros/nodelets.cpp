@@ -10,9 +10,12 @@
 /// code (pmrac_manager returns it), which ends a launch that requires the manager.
 
 #include <nodelet/nodelet.h>
+#include <pthread.h>
+#include <ros/callback_queue.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <pluginlib/class_list_macros.hpp>
@@ -33,10 +36,24 @@ class ContextNodelet : public nodelet::Nodelet {
  protected:
   /// \brief The nodelet's node handles and name; required when the loader's arguments hold
   /// `--required`.
-  NodeContext makeContext() {
+  /// queue: serve the node's callbacks from this queue (a thread of the nodelet's own) instead
+  /// of the nodelet's single-threaded queue (the manager's worker threads).
+  NodeContext makeContext(ros::CallbackQueue* queue = nullptr) {
     const std::vector<std::string>& argv = getMyArgv();
     const bool required = std::find(argv.begin(), argv.end(), "--required") != argv.end();
-    return NodeContext::forNodelet(getNodeHandle(), getPrivateNodeHandle(), getName(), required);
+    ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
+    if (queue) {
+      nh.setCallbackQueue(queue);
+      pnh.setCallbackQueue(queue);
+    }
+    return NodeContext::forNodelet(nh, pnh, getName(), required);
+  }
+
+  /// \brief Name the calling thread after the nodelet (the last 15 characters of its name:
+  /// what top -H, perf and gdb show).
+  void nameThisThread() const {
+    const std::string& n = getName();
+    pthread_setname_np(pthread_self(), n.substr(n.size() > 15 ? n.size() - 15 : 0).c_str());
   }
 };
 
@@ -57,6 +74,7 @@ class PlantSimNodelet : public ContextNodelet {
     if (!readNodeParams(*ctx_, readPlantNodeParams, &params)) return;
     node_ = std::make_unique<PlantSimNode>(*ctx_, params);
     thread_ = std::thread([this] {
+      nameThisThread();
       const int code = node_->run();
       if (!unloading_) ctx_->end(code);
     });
@@ -70,30 +88,62 @@ class PlantSimNodelet : public ContextNodelet {
 
 /// \brief A node class whose callbacks do all the work (controller, recorder, run monitor):
 /// built by `kMake` in onInit() from the nodelet's context, finish()ed on unload (the
-/// controller saves its weights, the recorder closes its bag). Its callbacks run on the
-/// nodelet's single-threaded queue, one at a time, as in a single-threaded process.
-template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&)>
+/// controller saves its weights, the recorder closes its bag). Every callback of it (messages,
+/// timers, reconfigure) goes to a queue of its own, served by a thread of its own, one at a time
+/// as in a single-threaded process. Not the nodelet's single-threaded queue: the manager hands
+/// each callback of that to a worker through its own manager thread, two thread wake-ups per
+/// message, and the recorder takes four to five messages per lockstep step (docs/ros.md). Here
+/// a message is one push onto the queue, and a thread that is behind takes its backlog in one
+/// go. The lockstep round trip is two threads, the plant's loop and the controller's, which
+/// ~cpu_affinity can put on one CPU.
+template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&), int kPollUs = 0>
 class CallbackNodelet : public ContextNodelet {
  public:
   ~CallbackNodelet() override {
     if (ctx_) ctx_->stop();
+    if (thread_.joinable()) thread_.join();
     if (node_) node_->finish();
   }
 
  private:
   void onInit() override {
-    ctx_ = makeContext();
+    ctx_ = makeContext(&queue_);
     node_ = kMake(*ctx_);
+    if (!node_) return;
+    thread_ = std::thread([this] {
+      nameThisThread();
+      if (kPollUs == 0) {
+        while (ctx_->ok()) queue_.callAvailable(ros::WallDuration(0.01));
+        return;
+      }
+      // Polled: while messages come, take them every kPollUs in one go rather than being
+      // woken for each; after kIdlePolls empty polls, wait to be woken again.
+      constexpr int kIdlePolls = 200;
+      int idle = 0;
+      while (ctx_->ok()) {
+        if (idle >= kIdlePolls) {
+          if (queue_.callOne(ros::WallDuration(0.01)) == ros::CallbackQueue::Called) idle = 0;
+        } else if (queue_.isEmpty()) {
+          ++idle;
+          std::this_thread::sleep_for(std::chrono::microseconds(kPollUs));
+        } else {
+          idle = 0;
+          queue_.callAvailable();
+        }
+      }
+    });
   }
 
+  ros::CallbackQueue queue_;
   std::optional<NodeContext> ctx_;
   std::unique_ptr<Node> node_;
+  std::thread thread_;
 };
 
 using MracControllerNodelet = CallbackNodelet<MracControllerNode, makeMracControllerNode>;
-using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder>;
+using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder, 1000>;
 /// With the required flag it ends the manager when every plant has finished.
-using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor>;
+using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor, 1000>;
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac
