@@ -1,7 +1,10 @@
 # Each library is compiled once, as position-independent objects, and linked twice: as the
 # shared library the nodes, nodelets and tests use, and as a static archive for the batch tools
 # (a tool then starts without loading and relocating three more shared libraries: about 0.4 ms
-# of a 5 ms preadapt_sim run, docs/performance.md).
+# of a 5 ms preadapt_sim run, docs/performance.md). With PMRAC_STATIC_TOOLS (the default) and
+# a static yaml-cpp (Debian's libyaml-cpp-dev ships libyaml-cpp.a) the batch tools are linked
+# fully static: no dynamic loader, libstdc++ or yaml-cpp relocations at start-up (6.9 -> 5.0 ms
+# per preadapt_sim scenario 1 run, hyperfine, docs/performance.md).
 function(pmrac_library name)
   add_library(${name}_objects OBJECT ${ARGN})
   set_target_properties(${name}_objects PROPERTIES POSITION_INDEPENDENT_CODE ON)
@@ -39,7 +42,19 @@ target_link_libraries(preadaptive_mrac_io_objects PUBLIC yaml-cpp)
 target_compile_definitions(preadaptive_mrac_io_objects PRIVATE
   PREADAPTIVE_MRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
 target_link_libraries(preadaptive_mrac_io PUBLIC preadaptive_mrac_core yaml-cpp)
-target_link_libraries(preadaptive_mrac_io_static PUBLIC preadaptive_mrac_core_static yaml-cpp)
+option(PMRAC_STATIC_TOOLS "link the batch tools (preadapt_sim, _sweep, _family) fully static" ON)
+find_library(PMRAC_YAML_CPP_ARCHIVE NAMES libyaml-cpp.a)
+set(PMRAC_TOOLS_FULLY_STATIC OFF)
+if(PMRAC_STATIC_TOOLS AND PMRAC_YAML_CPP_ARCHIVE)
+  set(PMRAC_TOOLS_FULLY_STATIC ON)
+  target_link_libraries(preadaptive_mrac_io_static PUBLIC preadaptive_mrac_core_static
+                        ${PMRAC_YAML_CPP_ARCHIVE})
+else()
+  if(PMRAC_STATIC_TOOLS)
+    message(STATUS "preadaptive_mrac: no libyaml-cpp.a; batch tools linked dynamically")
+  endif()
+  target_link_libraries(preadaptive_mrac_io_static PUBLIC preadaptive_mrac_core_static yaml-cpp)
+endif()
 
 # Batch tools: no ROS master needed.
 find_package(Threads REQUIRED)
@@ -56,6 +71,11 @@ add_executable(preadapt_family src/tools/preadapt_family.cpp)
 target_link_libraries(preadapt_family preadaptive_mrac_cli_static)
 set_target_properties(preadapt_sim preadapt_sweep preadapt_family PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+if(PMRAC_TOOLS_FULLY_STATIC)
+  foreach(t preadapt_sim preadapt_sweep preadapt_family)
+    target_link_options(${t} PRIVATE -static)
+  endforeach()
+endif()
 
 install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
