@@ -14,3 +14,9 @@ if(PREADAPTIVE_MRAC_BUILD_BENCH)
                    "bench_controller is not built")
   endif()
 endif()
+
+# The machine's floor for a 1 kHz loop: timer wake-up lateness and CPU taken from a spinning
+# thread, one thread, no ROS. bench/ros_bench.sh prints it beside the realtime runs.
+add_executable(wakeup_floor bench/wakeup_floor.cpp)
+set_target_properties(wakeup_floor PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
