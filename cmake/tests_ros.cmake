@@ -34,6 +34,10 @@ if(CATKIN_ENABLE_TESTING)
                      preadaptive_mrac_nodelets preadapt_sim)
     endforeach()
   endforeach()
+  # Plant loop and controller thread pinned to one CPU (~cpu_affinity): the same run.
+  add_rostest(test/ros/lockstep.test ARGS mode:=pa_learn shape:=nodelet cpu_affinity:=0
+    DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
+                 preadaptive_mrac_nodelets preadapt_sim)
 
   # Broken parameters: nodes exit non-zero naming the key and never publish a command.
   add_rostest(test/ros/broken_config.test

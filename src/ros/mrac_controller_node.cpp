@@ -245,7 +245,10 @@ void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>
       if (!r.warnings.empty()) {
         ROS_WARN("%s", r.warnings.c_str());
       } else {
-        ROS_INFO("state callback thread: %s", r.describe().c_str());
+        // A node of its own: roscpp's receiving thread reads each state first (docs/ros.md).
+        const int raised = r.fifo && !ctx_.isNodelet() ? raiseOtherThreads(r.priority) : 0;
+        ROS_INFO("state callback thread: %s; %d other thread(s) of the process raised",
+                 r.describe().c_str(), raised);
       }
     }
   }

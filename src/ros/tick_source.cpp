@@ -1,10 +1,14 @@
 #include "preadaptive_mrac/ros/tick_source.hpp"
 
+#include <dirent.h>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 namespace preadaptive_mrac {
@@ -96,6 +100,25 @@ SchedulingResult applyRealtimeScheduling(int priority, int cpu) {
   }
   if (!r.warnings.empty()) r.warnings.pop_back();
   return r;
+}
+
+int raiseOtherThreads(int priority) {
+  if (priority <= 0) return 0;
+  DIR* dir = opendir("/proc/self/task");
+  if (dir == nullptr) return -1;
+  const pid_t self = static_cast<pid_t>(syscall(SYS_gettid));
+  int raised = 0;
+  while (const dirent* e = readdir(dir)) {
+    char* end = nullptr;
+    const long tid = std::strtol(e->d_name, &end, 10);
+    if (end == e->d_name || *end != '\0' || tid <= 0 || static_cast<pid_t>(tid) == self) continue;
+    if (sched_getscheduler(static_cast<pid_t>(tid)) != SCHED_OTHER) continue;
+    sched_param sp{};
+    sp.sched_priority = priority;
+    if (sched_setscheduler(static_cast<pid_t>(tid), SCHED_FIFO, &sp) == 0) ++raised;
+  }
+  closedir(dir);
+  return raised;
 }
 
 }  // namespace ros1

@@ -8,12 +8,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "preadaptive_mrac/io/weights_io.hpp"
@@ -319,6 +322,38 @@ TEST(TickSource, SchedulingRefusalsAreWarningsNamingTheKey) {
   } else {
     EXPECT_NE(fifo.warnings.find("~rt_priority 1"), std::string::npos) << fifo.warnings;
   }
+}
+
+// The process shape under load: every other thread of the process (roscpp's receiving thread
+// among them) raised to SCHED_FIFO, the caller's own policy left to applyRealtimeScheduling.
+TEST(TickSource, RaiseOtherThreadsRaisesTheOthersNotTheCaller) {
+  EXPECT_EQ(pm::ros1::raiseOtherThreads(0), 0);  // nothing asked, nothing done
+  std::mutex m;
+  std::condition_variable cv;
+  bool go = false;
+  int seen_policy = -1;
+  std::thread other([&] {
+    std::unique_lock<std::mutex> lock(m);
+    cv.wait(lock, [&] { return go; });
+    // The kernel's policy of this thread (pthread_getschedparam may answer from glibc's cache).
+    seen_policy = sched_getscheduler(0);
+  });
+  sched_param probe{};
+  probe.sched_priority = 1;
+  const bool may = pthread_setschedparam(other.native_handle(), SCHED_FIFO, &probe) == 0;
+  probe.sched_priority = 0;
+  pthread_setschedparam(other.native_handle(), SCHED_OTHER, &probe);
+  const int raised = pm::ros1::raiseOtherThreads(1);
+  {
+    std::lock_guard<std::mutex> lock(m);
+    go = true;
+  }
+  cv.notify_one();
+  other.join();
+  EXPECT_EQ(sched_getscheduler(0), SCHED_OTHER);  // the caller is not touched
+  if (!may) GTEST_SKIP() << "SCHED_FIFO not permitted here (no CAP_SYS_NICE)";
+  EXPECT_GE(raised, 1);
+  EXPECT_EQ(seen_policy, SCHED_FIFO);
 }
 
 // Issue 10, no silent defaults: every optional key a node fills in is listed (resolved name and

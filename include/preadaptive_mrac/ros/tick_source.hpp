@@ -60,5 +60,13 @@ struct SchedulingResult {
 /// 0, no such CPU) leaves normal scheduling and is described in `warnings`.
 SchedulingResult applyRealtimeScheduling(int priority, int cpu);
 
+/// \brief SCHED_FIFO at `priority` for every other thread of this process that runs under
+/// normal scheduling (/proc/self/task): in a node of its own, roscpp's receiving thread reads
+/// every message from another process before a callback sees it, and at normal priority it
+/// waits behind any busy process. For the process shape only (a nodelet manager's threads are
+/// the other nodelets'). Returns how many threads were raised; -1 when /proc/self/task could
+/// not be read. Never throws.
+int raiseOtherThreads(int priority);
+
 }  // namespace ros1
 }  // namespace preadaptive_mrac
