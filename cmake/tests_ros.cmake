@@ -35,7 +35,7 @@ if(CATKIN_ENABLE_TESTING)
     endforeach()
   endforeach()
   # Plant loop and controller thread pinned to one CPU (~cpu_affinity): the same run.
-  add_rostest(test/ros/lockstep.test ARGS mode:=pa_learn shape:=nodelet cpu_affinity:=0
+  add_rostest(test/ros/lockstep.test ARGS mode:=pa_learn shape:=nodelet cpu_affinity:=0 name_suffix:=_cpu0
     DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                  preadaptive_mrac_nodelets preadapt_sim)
 
