@@ -371,7 +371,14 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   if (len > 0) {
     Vec phi;
     double y = 0.0;
-    windowSums(0, len, &phi, &y);
+    if (len == Ll_ && count_ >= Ll_) {
+      // The whole long window: its running sums (push()), not a fresh sum of Ll_ samples
+      // every chunk (that sum was a sixth of pa_robust's instructions).
+      phi = phi_long_;
+      y = y_long_;
+    } else {
+      windowSums(0, len, &phi, &y);
+    }
     const double pp = phi.squaredNorm();
     if (pp > 0.0) {
       const double r0 = y - theta_hat->dot(phi);
