@@ -8,20 +8,8 @@ namespace preadaptive_mrac {
 
 double Scenario::endTime() const { return theta.empty() ? 0.0 : theta.back().until; }
 
-const Eigen::VectorXd& Scenario::thetaAt(double t) const {
-  for (const auto& s : theta)
-    if (t <= s.until) return s.theta;
-  return theta.back().theta;
-}
-
-double Scenario::rAt(double t) const {
-  for (const auto& s : reference)
-    if (t <= s.until) return s.r;
-  return reference.back().r;
-}
-
 namespace {
-// The first segment from `from` on with t <= until, else the last: the search of thetaAt/rAt.
+// The first segment from `from` on with t <= until, else the last.
 template <typename Segment>
 size_t segmentFrom(const std::vector<Segment>& segs, double t, size_t from) {
   for (size_t i = from; i < segs.size(); ++i)
@@ -33,6 +21,12 @@ size_t segmentFrom(const std::vector<Segment>& segs, double t, size_t from) {
 size_t Scenario::thetaIndexFrom(double t, size_t from) const { return segmentFrom(theta, t, from); }
 
 size_t Scenario::rIndexFrom(double t, size_t from) const { return segmentFrom(reference, t, from); }
+
+const Eigen::VectorXd& Scenario::thetaAt(double t) const {
+  return theta[thetaIndexFrom(t, 0)].theta;
+}
+
+double Scenario::rAt(double t) const { return reference[rIndexFrom(t, 0)].r; }
 
 std::vector<double> Scenario::switchTimes() const {
   std::vector<double> out;
