@@ -241,14 +241,13 @@ void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>
     thread_local bool scheduled = false;
     if (!scheduled) {
       scheduled = true;
-      const SchedulingResult r = applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity);
+      // In a process of its own also roscpp's receiving thread, which reads each state first.
+      const SchedulingResult r =
+          applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity, !ctx_.isNodelet());
       if (!r.warnings.empty()) {
         ROS_WARN("%s", r.warnings.c_str());
       } else {
-        // A node of its own: roscpp's receiving thread reads each state first (docs/ros.md).
-        const int raised = r.fifo && !ctx_.isNodelet() ? raiseOtherThreads(r.priority) : 0;
-        ROS_INFO("state callback thread: %s; %d other thread(s) of the process raised",
-                 r.describe().c_str(), raised);
+        ROS_INFO("state callback thread: %s", r.describe().c_str());
       }
     }
   }

@@ -416,14 +416,11 @@ int PlantSimNode::runRealtime() {
   if (!waitForSubscribers()) return kExitRuntimeError;
   // The tick thread (this one): optional SCHED_FIFO priority and CPU affinity; a refusal is a
   // warning and normal scheduling.
-  const SchedulingResult sched = applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity);
+  // In a process of its own also roscpp's receiving thread, which reads each command first.
+  const SchedulingResult sched =
+      applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity, !ctx_.isNodelet());
   if (!sched.warnings.empty()) ROS_WARN("%s", sched.warnings.c_str());
   scheduling_ = sched.describe();
-  if (sched.fifo && !ctx_.isNodelet()) {
-    // A node of its own: roscpp's receiving thread reads each command first (docs/ros.md).
-    const int raised = raiseOtherThreads(sched.priority);
-    scheduling_ += ", " + std::to_string(raised) + " other thread(s) raised";
-  }
   // Absolute deadlines (clock_nanosleep TIMER_ABSTIME): a late tick does not shift the later
   // ones, so 60 s of ticks take 60 s.
   TickSource ticks(1.0 / params_.rate);

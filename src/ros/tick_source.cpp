@@ -62,10 +62,11 @@ double TickSource::deadline() const {
 std::string SchedulingResult::describe() const {
   std::string s = fifo ? "SCHED_FIFO " + std::to_string(priority) : std::string("normal");
   if (pinned) s += ", CPU " + std::to_string(cpu);
+  if (others_raised >= 0) s += ", " + std::to_string(others_raised) + " other thread(s) raised";
   return s;
 }
 
-SchedulingResult applyRealtimeScheduling(int priority, int cpu) {
+SchedulingResult applyRealtimeScheduling(int priority, int cpu, bool whole_process) {
   SchedulingResult r;
   if (priority > 0) {
     sched_param sp{};
@@ -97,6 +98,15 @@ SchedulingResult applyRealtimeScheduling(int priority, int cpu) {
                       std::strerror(err) + "), running on any CPU. ";
       }
     }
+  }
+  if (whole_process && r.fifo) {
+    const int raised = raiseOtherThreads(r.priority);
+    if (raised >= 0)
+      r.others_raised = raised;
+    else
+      r.warnings += "~rt_priority " + std::to_string(priority) +
+                    ": cannot read /proc/self/task, the process's other threads keep normal "
+                    "scheduling. ";
   }
   if (!r.warnings.empty()) r.warnings.pop_back();
   return r;

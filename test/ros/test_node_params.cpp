@@ -322,6 +322,19 @@ TEST(TickSource, SchedulingRefusalsAreWarningsNamingTheKey) {
   } else {
     EXPECT_NE(fifo.warnings.find("~rt_priority 1"), std::string::npos) << fifo.warnings;
   }
+  // A node in a process of its own: the process's other threads too, counted in the report.
+  const auto whole = pm::ros1::applyRealtimeScheduling(1, -1, /*whole_process=*/true);
+  if (whole.fifo) {
+    EXPECT_GE(whole.others_raised, 0);
+    EXPECT_NE(whole.describe().find("other thread(s) raised"), std::string::npos)
+        << whole.describe();
+    sched_param sp{};
+    sp.sched_priority = 0;
+    ASSERT_EQ(pthread_setschedparam(pthread_self(), SCHED_OTHER, &sp), 0);
+  } else {
+    EXPECT_EQ(whole.others_raised, -1);
+  }
+  EXPECT_EQ(fifo.others_raised, -1);  // not asked
 }
 
 // The process shape under load: every other thread of the process (roscpp's receiving thread

@@ -51,21 +51,24 @@ struct SchedulingResult {
   bool pinned = false;           ///< the thread is pinned to the CPU asked for
   int priority = 0;              ///< the SCHED_FIFO priority in effect (0: normal scheduling)
   int cpu = -1;                  ///< the CPU the thread is pinned to (-1: any)
+  int others_raised = -1;        ///< other threads of the process raised too (-1: not asked)
   std::string warnings;          ///< "" or what failed and why (names ~rt_priority, ~cpu_affinity)
-  std::string describe() const;  ///< e.g. "SCHED_FIFO 80, CPU 1" or "normal"
+  std::string describe() const;  ///< e.g. "SCHED_FIFO 80, CPU 1, 4 other thread(s) raised"
 };
 
 /// \brief For the calling thread: SCHED_FIFO at `priority` (1..99; 0 = leave the policy) and
 /// affinity to CPU `cpu` (-1 = leave). Never throws; a refusal (no CAP_SYS_NICE, rtprio limit
-/// 0, no such CPU) leaves normal scheduling and is described in `warnings`.
-SchedulingResult applyRealtimeScheduling(int priority, int cpu);
+/// 0, no such CPU) leaves normal scheduling and is described in `warnings`. With
+/// `whole_process` and SCHED_FIFO granted, every other thread of the process too
+/// (raiseOtherThreads): for a node in a process of its own, whose messages roscpp's receiving
+/// thread reads first; not in a nodelet manager, whose other threads are the other nodelets'.
+SchedulingResult applyRealtimeScheduling(int priority, int cpu, bool whole_process = false);
 
 /// \brief SCHED_FIFO at `priority` for every other thread of this process that runs under
 /// normal scheduling (/proc/self/task): in a node of its own, roscpp's receiving thread reads
 /// every message from another process before a callback sees it, and at normal priority it
-/// waits behind any busy process. For the process shape only (a nodelet manager's threads are
-/// the other nodelets'). Returns how many threads were raised; -1 when /proc/self/task could
-/// not be read. Never throws.
+/// waits behind any busy process. Returns how many threads were raised; -1 when
+/// /proc/self/task could not be read. Never throws.
 int raiseOtherThreads(int priority);
 
 }  // namespace ros1
