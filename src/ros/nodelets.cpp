@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <memory>
 #include <optional>
 #include <pluginlib/class_list_macros.hpp>
@@ -96,7 +95,7 @@ class PlantSimNodelet : public ContextNodelet {
 /// a message is one push onto the queue, and a thread that is behind takes its backlog in one
 /// go. The lockstep round trip is two threads, the plant's loop and the controller's, which
 /// ~cpu_affinity can put on one CPU.
-template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&), int kPollUs = 0>
+template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&)>
 class CallbackNodelet : public ContextNodelet {
  public:
   ~CallbackNodelet() override {
@@ -112,25 +111,7 @@ class CallbackNodelet : public ContextNodelet {
     if (!node_) return;
     thread_ = std::thread([this] {
       nameThisThread();
-      if (kPollUs == 0) {
-        while (ctx_->ok()) queue_.callAvailable(ros::WallDuration(0.01));
-        return;
-      }
-      // Polled: while messages come, take them every kPollUs in one go rather than being
-      // woken for each; after kIdlePolls empty polls, wait to be woken again.
-      constexpr int kIdlePolls = 200;
-      int idle = 0;
-      while (ctx_->ok()) {
-        if (idle >= kIdlePolls) {
-          if (queue_.callOne(ros::WallDuration(0.01)) == ros::CallbackQueue::Called) idle = 0;
-        } else if (queue_.isEmpty()) {
-          ++idle;
-          std::this_thread::sleep_for(std::chrono::microseconds(kPollUs));
-        } else {
-          idle = 0;
-          queue_.callAvailable();
-        }
-      }
+      while (ctx_->ok()) queue_.callAvailable(ros::WallDuration(0.01));
     });
   }
 
@@ -141,9 +122,9 @@ class CallbackNodelet : public ContextNodelet {
 };
 
 using MracControllerNodelet = CallbackNodelet<MracControllerNode, makeMracControllerNode>;
-using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder, 1000>;
+using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder>;
 /// With the required flag it ends the manager when every plant has finished.
-using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor, 1000>;
+using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor>;
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac
