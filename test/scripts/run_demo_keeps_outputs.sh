@@ -39,6 +39,7 @@ scenario:
 YAML
 demo --scenario "$TMP/typo.yaml"
 check "key typo: exit 2" [ "$RC" = 2 ]
+check "key typo: the typo named" grep -q "scenario.theta.0.untill: unknown key" "$TMP/log"
 check "key typo: earlier outputs unchanged" [ "$(sums)" = "$BEFORE" ]
 demo --scenario 4
 check "scenario 4: exit 2" [ "$RC" = 2 ]
