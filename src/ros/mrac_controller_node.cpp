@@ -424,12 +424,22 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
       const std::string which = out.event->decision == Event::Decision::kMemory
                                     ? event->decision + " #" + std::to_string(out.event->chosen)
                                     : event->decision;
-      ROS_INFO(
-          "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
-          "residual %.3g rad against %.3g rad keeping",
-          out.event->t, eventTypeName(out.event->type), out.event->e, out.event->e_dot,
-          which.c_str(), out.event->candidates, out.event->score, out.event->score_keep);
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
+                    "residual %.3g rad against %.3g rad keeping",
+                    out.event->t, eventTypeName(out.event->type), out.event->e, out.event->e_dot,
+                    which.c_str(), out.event->candidates, out.event->score, out.event->score_keep);
+      // pa_robust re-verifies every few ms inside a phase (dozens of DECISION events per
+      // switch): INFO when the choice is new in the phase, the same choice again is DEBUG.
+      const bool repeated = out.event->type == Event::Type::kDecision && which == logged_choice_;
+      logged_choice_ = which;
+      if (repeated)
+        ROS_DEBUG("%s", line);
+      else
+        ROS_INFO("%s", line);
     } else {
+      logged_choice_.clear();
       ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", out.event->t,
                eventTypeName(out.event->type), out.event->e, out.event->e_dot,
                out.event->learned ? ", network updated" : "");
