@@ -365,6 +365,12 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   ++steps_;
   last_valid_step_ = msg.step;
   last_valid_t_ = msg.t;
+  // The plant's last step: the silence after it is the end of the run, not stale input.
+  const bool last = msg.total_steps > 0 && msg.step + 1 >= msg.total_steps;
+  if (last && !run_over_)
+    ROS_INFO("the plant's last step (%llu) answered: the run has finished",
+             static_cast<unsigned long long>(msg.step));
+  run_over_ = last;
   if (stale_) {
     stale_ = false;
     ROS_INFO("valid state again (step %llu) after %.3f s stale: adapting again",
@@ -505,7 +511,7 @@ void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
   if (failed_) return;
   const double now = ros::Time::now().toSec();
   // Before the first valid state there is nothing to hold (and no plant to command).
-  if (state_guard_.haveValid() && state_guard_.stale(now)) {
+  if (state_guard_.haveValid() && state_guard_.stale(now) && !run_over_) {
     if (!stale_) {
       stale_ = true;
       ++stale_episodes_;
@@ -541,6 +547,9 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   } else if (input_guard_.dropped() > 0) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                  "input from foreign publishers dropped (~accept_from)");
+  } else if (run_over_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK,
+                 "run finished (the plant's last step answered)");
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
   }
