@@ -75,6 +75,11 @@ PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std:
 /// \brief End this process with `code`: the first non-zero code requested wins (a refusal is
 /// not overwritten by a clean end of another node), then ros::requestShutdown(). main()
 /// (a `*_node` executable or pmrac_manager) returns processExitCode().
+/// A normal end (code 0) of a process that roslaunch started (not rostest, not a remote
+/// `--child`) ends the launch instead, as Ctrl-C does: SIGINT to roslaunch, which then stops
+/// every node in order (the nodelet loaders unload from a manager that is still there) and
+/// this process with them. Exiting made roslaunch print a required node's normal end as
+/// "REQUIRED process [...] has died!" and the loaders warn that the manager was gone.
 void requestProcessExit(int code);
 /// \brief The code requested by requestProcessExit (0 when none).
 int processExitCode();
