@@ -9,14 +9,9 @@ set -uo pipefail
 TEST_NAME=clean_end
 # shellcheck source=test/scripts/lib/ros_build.sh
 source "$(dirname "$0")/lib/ros_build.sh"
-# shellcheck source=scripts/lib/ros_env
-source "$ROOT/scripts/lib/ros_env"
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-PORT=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$PORT ROS_HOME=$TMP/ros_home
+# shellcheck source=test/scripts/lib/launch_scratch.sh
+source "$(dirname "$0")/lib/launch_scratch.sh"
 SCEN=$ROOT/test/ros/config/short_scenario.yaml
-FAIL=0
 for CASE in "scenario nodelet" "scenario process" "compare nodelet"; do
   read -r L SHAPE <<<"$CASE"
   LOG=$TMP/$L-$SHAPE.log

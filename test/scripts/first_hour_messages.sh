@@ -10,18 +10,8 @@ set -uo pipefail
 TEST_NAME=first_hour_messages
 # shellcheck source=test/scripts/lib/ros_build.sh
 source "$(dirname "$0")/lib/ros_build.sh"
-# shellcheck source=scripts/lib/ros_env
-source "$ROOT/scripts/lib/ros_env"
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-FAIL=0
-check() { # check NAME CONDITION...
-  local name=$1
-  shift
-  if "$@"; then echo "ok: $name"; else echo "FAIL: $name"; FAIL=1; fi
-}
-PORT=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$PORT ROS_HOME=$TMP/ros_home
+# shellcheck source=test/scripts/lib/launch_scratch.sh
+source "$(dirname "$0")/lib/launch_scratch.sh"
 for L in scenario compare; do
   timeout 60 roslaunch -p "$PORT" preadaptive_mrac "$L.launch" scenario:=4 >"$TMP/$L.log" 2>&1
   check "$L.launch scenario:=4 names the choices" \

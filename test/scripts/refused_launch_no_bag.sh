@@ -10,13 +10,8 @@ set -uo pipefail
 TEST_NAME=refused_launch_no_bag
 # shellcheck source=test/scripts/lib/ros_build.sh
 source "$(dirname "$0")/lib/ros_build.sh"
-# shellcheck source=scripts/lib/ros_env
-source "$ROOT/scripts/lib/ros_env"
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-FAIL=0
-PORT=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$PORT ROS_HOME=$TMP/ros_home
+# shellcheck source=test/scripts/lib/launch_scratch.sh
+source "$(dirname "$0")/lib/launch_scratch.sh"
 for CASE in "scenario mode nodelet" "scenario mode process" "compare pa_mode nodelet"; do
   read -r L ARG SHAPE <<<"$CASE"
   BAGS=$TMP/$L-$SHAPE

@@ -7,10 +7,8 @@ set -uo pipefail
 TEST_NAME=robust_log_lines
 # shellcheck source=test/scripts/lib/ros_build.sh
 source "$(dirname "$0")/lib/ros_build.sh"
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-PORT=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$PORT ROS_HOME=$TMP/ros_home
+# shellcheck source=test/scripts/lib/launch_scratch.sh
+source "$(dirname "$0")/lib/launch_scratch.sh"
 RC=0
 "$ROOT/scripts/lib/launch_checked" --log "$TMP/launch.log" --timeout 300 \
   --expect-report "$TMP/plant.json" -- -p "$PORT" preadaptive_mrac scenario.launch scenario:=1 \

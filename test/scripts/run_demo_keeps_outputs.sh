@@ -9,15 +9,9 @@ set -uo pipefail
 TEST_NAME=run_demo_keeps_outputs
 # shellcheck source=test/scripts/lib/ros_build.sh
 source "$(dirname "$0")/lib/ros_build.sh"
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
+# shellcheck source=test/scripts/lib/launch_scratch.sh
+source "$(dirname "$0")/lib/launch_scratch.sh"
 OUT=$TMP/demo
-FAIL=0
-check() { # check NAME CONDITION...: one line per check
-  local name=$1
-  shift
-  if "$@"; then echo "ok: $name"; else echo "FAIL: $name"; FAIL=1; fi
-}
 mkdir -p "$OUT/pa/bags" "$OUT/pa/analysis"
 head -c 4096 /dev/urandom >"$OUT/pa/bags/scenario1_rac_vs_pa_2026-01-01-00-00-00.bag"
 echo '{"comparison": "earlier"}' >"$OUT/pa/analysis/metrics.json"
@@ -30,20 +24,6 @@ demo() { # demo ARGS...: run_demo without building, output in $TMP/log, exit cod
   REBUILD=0 BUILD_DIR=$BUILD PMRAC_BUILD_DIR=$BUILD timeout 300 "$ROOT/scripts/run_demo" \
     --out "$OUT" --pa-mode pa "$@" >"$TMP/log" 2>&1 || RC=$?
 }
-cat >"$TMP/typo.yaml" <<'YAML'
-scenario:
-  name: typo
-  theta:
-    - {untill: 1.0, scale: 0.1}
-    - {until: 2.0, scale: 1.0}
-YAML
-demo --scenario "$TMP/typo.yaml"
-check "key typo: exit 2" [ "$RC" = 2 ]
-check "key typo: the typo named" grep -q "scenario.theta.0.untill: unknown key" "$TMP/log"
-check "key typo: earlier outputs unchanged" [ "$(sums)" = "$BEFORE" ]
-demo --scenario 4
-check "scenario 4: exit 2" [ "$RC" = 2 ]
-check "scenario 4: earlier outputs unchanged" [ "$(sums)" = "$BEFORE" ]
 cat >"$TMP/short.yaml" <<'YAML'
 scenario:
   name: short
@@ -51,6 +31,14 @@ scenario:
     - {until: 1.0, scale: 0.1}
     - {until: 2.0, scale: 1.0}
 YAML
+sed 's/{until: 1.0/{untill: 1.0/' "$TMP/short.yaml" >"$TMP/typo.yaml"
+demo --scenario "$TMP/typo.yaml"
+check "key typo: exit 2" [ "$RC" = 2 ]
+check "key typo: the typo named" grep -q "scenario.theta.0.untill: unknown key" "$TMP/log"
+check "key typo: earlier outputs unchanged" [ "$(sums)" = "$BEFORE" ]
+demo --scenario 4
+check "scenario 4: exit 2" [ "$RC" = 2 ]
+check "scenario 4: earlier outputs unchanged" [ "$(sums)" = "$BEFORE" ]
 demo --scenario "$TMP/short.yaml" -- dt:=-1
 check "refused by the nodes: exit 2" [ "$RC" = 2 ]
 check "refused by the nodes: earlier outputs unchanged" [ "$(sums)" = "$BEFORE" ]
