@@ -15,6 +15,7 @@ namespace {
 std::mutex g_exit_mutex;
 int g_exit_code = 0;
 bool g_exit_requested = false;
+bool g_defer_shutdown = false;
 
 }  // namespace
 
@@ -112,11 +113,22 @@ void requestProcessExit(int code) {
     std::lock_guard<std::mutex> lock(g_exit_mutex);
     if (!g_exit_requested || (g_exit_code == 0 && code != 0)) g_exit_code = code;
     g_exit_requested = true;
+    if (g_defer_shutdown) return;
   }
   // Deferred to roscpp's own thread (within 0.1 s): ros::shutdown() here could run inside a
   // nodelet manager's load service callback (a nodelet refusing its parameters in onInit()),
   // while the manager is still setting the nodelet up.
   ros::requestShutdown();
+}
+
+bool processExitRequested() {
+  std::lock_guard<std::mutex> lock(g_exit_mutex);
+  return g_exit_requested;
+}
+
+void deferProcessShutdown() {
+  std::lock_guard<std::mutex> lock(g_exit_mutex);
+  g_defer_shutdown = true;
 }
 
 int processExitCode() {

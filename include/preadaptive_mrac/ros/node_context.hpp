@@ -83,6 +83,13 @@ PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std:
 void requestProcessExit(int code);
 /// \brief The code requested by requestProcessExit (0 when none).
 int processExitCode();
+/// \brief Whether requestProcessExit has been called.
+bool processExitRequested();
+/// \brief pmrac_manager: requestProcessExit only records the code, and main() unloads every
+/// nodelet while ROS is still up before it shuts ROS down. A nodelet's bond says goodbye on its
+/// topic when destroyed; after ros::shutdown() that publisher is invalid and roscpp's assertion
+/// stops the manager with SIGTRAP (seen in 6 of 8 refused compare.launch runs, exit code -5).
+void deferProcessShutdown();
 
 /// \brief Read and validate a node's parameters with `read(tree, style)` (which throws
 /// ConfigError listing every problem). On refusal log each problem (ROS_FATAL, naming its
