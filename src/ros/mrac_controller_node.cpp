@@ -547,9 +547,6 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   } else if (input_guard_.dropped() > 0) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                  "input from foreign publishers dropped (~accept_from)");
-  } else if (run_over_) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK,
-                 "run finished (the plant's last step answered)");
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
   }
