@@ -2,12 +2,14 @@
 # Issue 23: the package as a ROS user has it. A catkin workspace with the package in src/,
 # `catkin_make install`, then the source, build and devel spaces removed; from the install
 # space alone:
-#   - the batch tools are on PATH and rosrun finds them and the nodes; preadapt_sim finds its
+#   - the batch tools are on PATH and rosrun finds preadapt_sim; every executable is in
+#     lib/preadaptive_mrac (where rosrun and roslaunch look); preadapt_sim finds its
 #     configuration (no source path compiled in) and runs scenario 1 (rac and pa_learn);
 #   - two lockstep runs of scenario.launch at once, each included in a namespace of its own
 #     (run_a: rac in the nodelet shape, run_b: pa_learn in the process shape), recording: both
 #     complete, and each bag equals its own batch CLI run bit for bit (bench/bag_vs_cli.py
-#     --tol 0), with its tf and clock under its namespace and no /use_sim_time set.
+#     --tol 0), with its tf under its namespace (not /tf), no controller gone stale and no
+#     /use_sim_time set.
 # The catkin build is the cost (ccache is used when present, with CCACHE_BASEDIR so a new
 # temporary workspace still hits the cache): PMRAC_WS_JOBS (default 2) parallel jobs.
 # PMRAC_WS_KEEP=1 keeps the workspace.
