@@ -9,7 +9,7 @@
 #     (run_a: rac in the nodelet shape, run_b: pa_learn in the process shape), recording: both
 #     complete, and each bag equals its own batch CLI run bit for bit (bench/bag_vs_cli.py
 #     --tol 0), with its tf under its namespace (not /tf), no controller gone stale and no
-#     /use_sim_time set.
+#     /use_sim_time set; the installed analyze_bag (and so the Python package) reads one bag.
 # The catkin build is the cost (ccache is used when present, with CCACHE_BASEDIR so a new
 # temporary workspace still hits the cache): PMRAC_WS_JOBS (default 2) parallel jobs.
 # PMRAC_WS_KEEP=1 keeps the workspace.
@@ -141,6 +141,12 @@ for ns in run_a run_b; do
     fail "$ns: the controller went stale (\"adaptation frozen\")"
   fi
 done
+# The installed Python package and a script for users, on one of the bags.
+bag=$(ls "$W"/run_b/scenario1_pa_learn_*.bag 2>/dev/null | head -1)
+if [ -n "$bag" ]; then
+  rosrun preadaptive_mrac analyze_bag "$bag" --out "$W/analysis" >"$W/analysis.out" 2>&1 &&
+    [ -s "$W/analysis/metrics.json" ] || fail "installed analyze_bag on $bag: $(tail -3 "$W/analysis.out")"
+fi
 
 if [ "$FAIL" = 0 ]; then
   echo "ok: installed, source/build/devel removed; tools on PATH and rosrun; two namespaced lockstep runs at once, each bag equal to its CLI run"
