@@ -6,7 +6,8 @@
 Checks that every step 0..N-1 is in the bag exactly once on plant/state and
 controller/status, and prints the largest differences of alpha (plant/state) and theta_hat
 (controller/status) against the CSV. Exit code 1 when a step is missing or a difference
-exceeds 1e-9. (Run with /usr/bin/python3: it needs the ROS python modules.)
+exceeds 1e-9; 2 when the bag lacks either topic (a namespaced bag without --ns: the message
+names the namespaces found). Run with /usr/bin/python3: it needs the ROS python modules.
 """
 import argparse
 import csv
@@ -34,6 +35,20 @@ def main():
     th = [None] * n
     dup = 0
     with rosbag.Bag(a.bag) as bag:
+        # Topics that are not in the bag at all are a wrong --ns (or bag), not missing steps.
+        topics = sorted(bag.get_type_and_topic_info().topics)
+        absent = [t for t in (state_t, status_t) if t not in topics]
+        if absent:
+            found = sorted(
+                {t[: -len('/plant/state')] for t in topics if t.endswith('/plant/state')}
+            )
+            hint = ' (try %s)' % ', '.join('--ns ' + ns for ns in found if ns) if found else ''
+            print(
+                'bag_vs_cli: %s not in %s%s; its topics: %s'
+                % (' and '.join(absent), a.bag, hint, ', '.join(topics) or 'none'),
+                file=sys.stderr,
+            )
+            return 2
         for topic, msg, _ in bag.read_messages(topics=[state_t, status_t]):
             k = msg.step
             if k >= n:

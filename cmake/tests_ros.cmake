@@ -47,6 +47,9 @@ if(CATKIN_ENABLE_TESTING)
   # (behaviour, not speed: rates and latencies are the benchmarks' business).
   add_rostest(test/ros/realtime_answers.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
+  # Issue 24: the end of a realtime run is not a fault (no stale commands after the last state).
+  add_rostest(test/ros/realtime_end.test
+    DEPENDENCIES plant_sim_node mrac_controller_node)
 
   # Issue 5, reliability (wall clock). The controller alone, fed by the test: NaN states are
   # answered safely and do not refresh the staleness timer; silence gives stale safe commands

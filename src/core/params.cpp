@@ -384,6 +384,19 @@ void ParamReader::markUsed(const std::string& dotted) { used_.insert(dotted); }
 
 void ParamReader::collectUnused(const ParamValue& v, const std::string& path,
                                 std::vector<std::string>* out) const {
+  // A list of maps read entry by entry (scenario segments) is used as a list, but each entry's
+  // keys are looked up one by one (even the missing ones): report the rest of those entries'
+  // keys, so `untill` is named beside `until: missing`.
+  if (v.type() == ParamValue::Type::kList && used_.count(path)) {
+    for (size_t i = 0; i < v.list().size(); ++i) {
+      const std::string entry = path + "." + std::to_string(i) + ".";
+      const auto it = used_.lower_bound(entry);
+      if (v.list()[i].type() == ParamValue::Type::kMap && it != used_.end() &&
+          it->compare(0, entry.size(), entry) == 0)
+        collectUnused(v.list()[i], entry.substr(0, entry.size() - 1), out);
+    }
+    return;
+  }
   if (used_.count(path)) return;
   if (v.type() == ParamValue::Type::kMap && !v.map().empty()) {
     for (const auto& kv : v.map())

@@ -80,7 +80,7 @@ Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
         } else if (has_scale) {
           s->theta = Eigen::VectorXd::Constant(n, r.getDouble(seg + ".scale"));
         } else {
-          s->theta = r.getVector(seg + ".theta", n);
+          s->theta = r.getVector(seg + ".theta", n > 0 ? n : -1);
         }
       });
 

@@ -1,5 +1,6 @@
 #include "preadaptive_mrac/io/setup.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -65,7 +66,7 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
     r.rejectUnusedUnder("controller");
   }
   if (sections.scenario) {
-    rc.scenario = Scenario::read(r, n > 0 ? n : 1, "scenario");
+    rc.scenario = Scenario::read(r, std::max(n, 0), "scenario");
     r.rejectUnusedUnder("scenario");
   }
   if (sections.strict_top_level && tree.type() == ParamValue::Type::kMap) {

@@ -87,12 +87,13 @@ void BagRecorder::openBag() {
 }
 
 void BagRecorder::closeBag() {
+  // The file open is <name>.active; path_ may have been renamed since (finish: incomplete).
+  const std::string active = bag_.getFileName();
   bag_.close();
   std::error_code ec;
-  std::filesystem::rename(path_ + ".active", path_, ec);
+  std::filesystem::rename(active, path_, ec);
   if (ec)
-    ROS_ERROR("could not rename %s.active to %s: %s", path_.c_str(), path_.c_str(),
-              ec.message().c_str());
+    ROS_ERROR("could not rename %s to %s: %s", active.c_str(), path_.c_str(), ec.message().c_str());
 }
 
 bool BagRecorder::splitDue() const {
@@ -176,7 +177,11 @@ void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
   try {
     bag_.write(topic, t, msg, connection_header);
     ++counts_[topic];
-    if (state != nullptr) reportProgress(topic, *state);
+    if (state != nullptr) {
+      bool& done = state_done_[topic];
+      done = done || (state->total_steps > 0 && state->step + 1 >= state->total_steps);
+      reportProgress(topic, *state);
+    }
     if (splitDue()) {
       closeBag();
       ROS_INFO("closed %s (split)", path_.c_str());
@@ -205,12 +210,28 @@ void BagRecorder::finish() {
   if (closed_) return;
   closed_ = true;
   subs_.clear();
+  std::uint64_t total = 0;
+  for (const auto& kv : counts_) total += kv.second;
+  bool complete = true;
+  for (const auto& kv : state_done_) complete = complete && kv.second;
+  if (total == 0) {
+    // Nothing came (a launch refused at start-up): a bag named like a run would look like data.
+    bag_.close();
+    std::error_code ec;
+    std::filesystem::remove(path_ + ".active", ec);
+    ctx_.printFinal("no message came: removed the empty " + path_ + ".active (no bag written)");
+    return;
+  }
+  // A plant's states stopped before its last step (another node refused or died, or the run
+  // was interrupted): kept, under a name that says so.
+  if (!complete) path_ = path_.substr(0, path_.size() - 4) + ".incomplete.bag";
   closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
   ctx_.printFinal(
       "closed " + path_ +
       (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +
+      (complete ? "" : " (incomplete: a plant stopped before its last step)") +
       "; messages:" + summary);
 }
 

@@ -368,6 +368,12 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   ++steps_;
   last_valid_step_ = msg.step;
   last_valid_t_ = msg.t;
+  // The plant's last step: the silence after it is the end of the run, not stale input.
+  const bool last = msg.total_steps > 0 && msg.step + 1 >= msg.total_steps;
+  if (last && !run_over_)
+    ROS_INFO("the plant's last step (%llu) answered: the run has finished",
+             static_cast<unsigned long long>(msg.step));
+  run_over_ = last;
   if (stale_) {
     stale_ = false;
     ROS_INFO("valid state again (step %llu) after %.3f s stale: adapting again",
@@ -427,12 +433,22 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
       const std::string which = out.event->decision == Event::Decision::kMemory
                                     ? event->decision + " #" + std::to_string(out.event->chosen)
                                     : event->decision;
-      ROS_INFO(
-          "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
-          "residual %.3g rad against %.3g rad keeping",
-          out.event->t, eventTypeName(out.event->type), out.event->e, out.event->e_dot,
-          which.c_str(), out.event->candidates, out.event->score, out.event->score_keep);
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
+                    "residual %.3g rad against %.3g rad keeping",
+                    out.event->t, eventTypeName(out.event->type), out.event->e, out.event->e_dot,
+                    which.c_str(), out.event->candidates, out.event->score, out.event->score_keep);
+      // pa_robust re-verifies every few ms inside a phase (dozens of DECISION events per
+      // switch): INFO when the choice is new in the phase, the same choice again is DEBUG.
+      const bool repeated = out.event->type == Event::Type::kDecision && which == logged_choice_;
+      logged_choice_ = which;
+      if (repeated)
+        ROS_DEBUG("%s", line);
+      else
+        ROS_INFO("%s", line);
     } else {
+      logged_choice_.clear();
       ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", out.event->t,
                eventTypeName(out.event->type), out.event->e, out.event->e_dot,
                out.event->learned ? ", network updated" : "");
@@ -502,7 +518,7 @@ void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
   if (failed_) return;
   const double now = staleNow();
   // Before the first valid state there is nothing to hold (and no plant to command).
-  if (state_guard_.haveValid() && state_guard_.stale(now)) {
+  if (state_guard_.haveValid() && state_guard_.stale(now) && !run_over_) {
     if (!stale_) {
       stale_ = true;
       ++stale_episodes_;

@@ -1,6 +1,11 @@
 #include "preadaptive_mrac/ros/node_context.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <mutex>
 
 namespace preadaptive_mrac {
@@ -10,6 +15,7 @@ namespace {
 std::mutex g_exit_mutex;
 int g_exit_code = 0;
 bool g_exit_requested = false;
+bool g_defer_shutdown = false;
 
 }  // namespace
 
@@ -74,16 +80,55 @@ PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std:
                         [](const std::string& warning) { ROS_WARN("%s", warning.c_str()); });
 }
 
+namespace {
+// SIGINT to the parent process when it is a local roslaunch; false when it is not (or the
+// signal failed), and the caller exits as before.
+bool endLaunchQuietly() {
+  const pid_t parent = getppid();
+  std::ifstream f("/proc/" + std::to_string(parent) + "/cmdline");
+  const std::string cmdline((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  bool roslaunch = false;
+  for (std::size_t b = 0; b < cmdline.size();) {
+    std::size_t e = cmdline.find('\0', b);
+    if (e == std::string::npos) e = cmdline.size();
+    const std::string arg = cmdline.substr(b, e - b);
+    // A remote child (`roslaunch -c NAME -u URI`): its parent launch owns the run.
+    if (arg == "-c" || arg == "-u" || arg.rfind("--child", 0) == 0 ||
+        arg.rfind("--server_uri", 0) == 0 || arg == "--core")
+      return false;
+    const std::size_t slash = arg.rfind('/');
+    if (arg.substr(slash == std::string::npos ? 0 : slash + 1) == "roslaunch") roslaunch = true;
+    b = e + 1;
+  }
+  if (!roslaunch || kill(parent, SIGINT) != 0) return false;
+  ROS_INFO("the run has finished: ending the launch (SIGINT to roslaunch, pid %d)",
+           static_cast<int>(parent));
+  return true;
+}
+}  // namespace
+
 void requestProcessExit(int code) {
+  if (code == 0 && endLaunchQuietly()) return;
   {
     std::lock_guard<std::mutex> lock(g_exit_mutex);
     if (!g_exit_requested || (g_exit_code == 0 && code != 0)) g_exit_code = code;
     g_exit_requested = true;
+    if (g_defer_shutdown) return;
   }
   // Deferred to roscpp's own thread (within 0.1 s): ros::shutdown() here could run inside a
   // nodelet manager's load service callback (a nodelet refusing its parameters in onInit()),
   // while the manager is still setting the nodelet up.
   ros::requestShutdown();
+}
+
+bool processExitRequested() {
+  std::lock_guard<std::mutex> lock(g_exit_mutex);
+  return g_exit_requested;
+}
+
+void deferProcessShutdown() {
+  std::lock_guard<std::mutex> lock(g_exit_mutex);
+  g_defer_shutdown = true;
 }
 
 int processExitCode() {

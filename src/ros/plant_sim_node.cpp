@@ -596,7 +596,13 @@ int runPlantSimNode() {
   PlantNodeParams params;
   if (!readNodeParams(ctx, readPlantNodeParams, &params)) return processExitCode();
   PlantSimNode node(ctx, params);
-  return node.run();
+  const int code = node.run();
+  if (code != 0) return code;
+  // A normal end: under roslaunch, end the launch quietly and wait to be stopped with it
+  // (returning now would race roslaunch into reporting this process as died).
+  requestProcessExit(0);
+  while (ros::ok()) ros::WallDuration(0.05).sleep();
+  return processExitCode();
 }
 
 }  // namespace ros1

@@ -106,7 +106,12 @@ PreparedRun prepare(const RunRequest& req) {
   try {
     tree.merge(loadYamlFile(plant));
     tree.merge(loadYamlFile(controller));
-    tree.merge(loadYamlFile(scenarioPath(req.scenario)));
+    try {
+      tree.merge(loadYamlFile(scenarioPath(req.scenario)));
+    } catch (const FileError& e) {
+      throw UsageError("--scenario: expected 1, 2, 3 or the path of a scenario YAML; " +
+                       std::string(e.what()));
+    }
     for (const auto& s : req.sets) applyOverride(&tree, s);
   } catch (const FileError& e) {
     throw UsageError(e.what());

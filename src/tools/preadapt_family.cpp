@@ -1,6 +1,6 @@
 /// \file preadapt_family.cpp
 /// \brief Families of random recurring-regime scenarios: write them, run rac and the chosen
-/// modes on each (same plant noise), and report each mode against rac (SPEC.md "Beyond the
+/// modes on each (same plant noise), and report each mode against rac (docs/spec.md "Beyond the
 /// paper"; docs/robust.md).
 
 #include <sys/stat.h>

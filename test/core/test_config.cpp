@@ -82,6 +82,39 @@ TEST(Config, EveryProblemAtOnceNamedByKey) {
   EXPECT_GE(ps.size(), 7u);
 }
 
+// Issue 24: a typo inside a scenario segment was reported only as the key it replaced.
+TEST(Config, TypoInAScenarioSegmentIsNamed) {
+  ParamValue t = test::packageTree();
+  t.map()["scenario"].map()["theta"].list()[1].map().erase("until");
+  t.setPath("scenario.theta.1.untill", ParamValue::makeDouble(20.0));
+  const auto ps = problemsOf(t);
+  EXPECT_TRUE(mentions(ps, "scenario.theta.1.until: missing")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "scenario.theta.1.untill: unknown key")) << joined(ps);
+}
+
+// Issue 24: with the plant section misspelt, the state size is unknown; a theta vector was
+// then checked against a guessed size of 1 (a spurious scenario problem).
+TEST(Config, MisspeltPlantSectionIsNotEchoedAsAScenarioProblem) {
+  ParamValue t = test::packageTree();
+  t.map()["plnat"] = t.map()["plant"];
+  t.map().erase("plant");
+  t.setPath("scenario.theta.1.theta",
+            ParamValue::makeList(
+                {ParamValue::makeDouble(1), ParamValue::makeDouble(2), ParamValue::makeDouble(3)}));
+  t.map()["scenario"].map()["theta"].list()[1].map().erase("scale");
+  Sections sections;
+  sections.strict_top_level = true;
+  std::vector<std::string> ps;
+  try {
+    readRunConfig(t, KeyStyle{}, sections);
+  } catch (const ConfigError& e) {
+    ps = e.problems();
+  }
+  EXPECT_TRUE(mentions(ps, "plnat: unknown key")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "plant.A: missing")) << joined(ps);
+  EXPECT_FALSE(mentions(ps, "scenario.")) << joined(ps);
+}
+
 TEST(Config, RosStyleNamesAreFullyResolved) {
   ParamValue t = test::packageTree();
   t.map()["controller"].map()["attention"].map().erase("c_e");
@@ -156,6 +189,7 @@ TEST(Cli, BadInputIsExitCodeTwoWithOneLine) {
        "controller.attention.cee: unknown key"},
       {"--scenario 1 --mode rac --set nosuch.key=1", "nosuch: unknown key"},
       {"--scenario /nonexistent/s.yaml --mode rac", "/nonexistent/s.yaml: cannot open file"},
+      {"--scenario 4 --mode rac", "--scenario: expected 1, 2, 3 or the path of a scenario YAML"},
       {"--scenario " + bad_yaml + " --mode rac", "malformed YAML"},
       {"--scenario " + nan_yaml + " --mode rac",
        "scenario.theta.0.scale: expected a finite number"},

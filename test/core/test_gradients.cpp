@@ -96,7 +96,7 @@ TEST(Gradients, ApproximateGradientDiffersFromExactButIsTracked) {
 }
 
 TEST(Gradients, SensitivityPiMatchesSpec) {
-  // Pi's blocks as SPEC.md writes them.
+  // Pi's blocks as docs/spec.md writes them.
   Mat Ar(2, 2);
   Ar << -1, 0.5, -0.2, -2;
   Vec B(2), PB(2), ev(2), x(2), th(2);

@@ -3,7 +3,7 @@
 bags and CSV files in the formats the package's nodes and batch CLI produce.
 
 This is NOT the package's controller (that is the C++ core). It is an independent,
-deliberately simple implementation of SPEC.md's plant, LQR baseline, MRAC law, dirty
+deliberately simple implementation of docs/spec.md's plant, LQR baseline, MRAC law, dirty
 derivative and attention function, plus a fixed random "preadaptation" reset (mode pa,
 no learning) and, in mode pa_robust, made-up verification decisions (every kind, with
 scores) on onsets and as DECISION events after them, so that the tests get data with the
@@ -25,7 +25,7 @@ import scipy.linalg
 PKG_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 MSG_DIR = os.path.join(PKG_DIR, 'msg')
 
-# SPEC.md plant
+# docs/spec.md plant
 A = np.array([[0.0, 1.0, 0.0], [0.0, -0.32, 0.86], [0.0, -0.93, -0.43]])
 B = np.array([0.0, -0.02, -1.16])
 B1R = np.array([-1.0, 0.0, 0.0])

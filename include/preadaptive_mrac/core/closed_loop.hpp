@@ -1,6 +1,6 @@
 #pragma once
 /// \file closed_loop.hpp
-/// \brief Plant + controller composed for batch runs, and the metrics of SPEC.md.
+/// \brief Plant + controller composed for batch runs, and the metrics of docs/spec.md.
 
 #include <string>
 #include <vector>

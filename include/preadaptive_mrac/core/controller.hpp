@@ -179,7 +179,7 @@ class VelocityEstimator {
   double prev_ = 0.0, value_ = 0.0;
 };
 
-/// \brief Attention function (eq. attention) with the phase state of SPEC.md.
+/// \brief Attention function (eq. attention) with the phase state of docs/spec.md.
 ///
 /// Two options against noise, both off by default (the paper's behaviour): `confirm_samples`
 /// N > 0 accepts a crossing only when |e| stays on the new side for N more samples, and checks

@@ -45,7 +45,8 @@ struct Scenario {
   /// \brief Times where theta changes (every until but the last).
   std::vector<double> switchTimes() const;
 
-  /// \brief Read the `scenario` section for a plant of n states.
+  /// \brief Read the `scenario` section for a plant of n states (0: unknown, the plant was refused;
+  /// theta vectors of any size, so the plant's problem is not echoed as a scenario one).
   /// Segments: {until: s, scale: c} (theta = c * ones) or {until: s, theta: [..]};
   /// reference: {until: s, r: value}; a missing `reference` means r = 0.1 rad throughout.
   static Scenario read(ParamReader& r, int n, const std::string& prefix = "scenario");

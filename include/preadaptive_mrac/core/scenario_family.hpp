@@ -1,6 +1,6 @@
 #pragma once
 /// \file scenario_family.hpp
-/// \brief Random recurring-regime scenarios from a seed (SPEC.md "Beyond the paper"): after a
+/// \brief Random recurring-regime scenarios from a seed (docs/spec.md "Beyond the paper"): after a
 /// first segment at theta = 0.1 ones, the plant switches between a few fixed regimes, each
 /// visited at least twice. How a mode is judged against rac on such a family: family_report.
 
@@ -41,7 +41,7 @@ struct RunDigest {
   double max_abs_u = 0.0;    ///< [rad]
 };
 
-/// \brief One mode against rac over a family (SPEC.md "how a mode is judged").
+/// \brief One mode against rac over a family (docs/spec.md "Beyond the paper").
 struct FamilySummary {
   int windows = 0;                ///< repeated-switch windows compared
   double frac_better = 0.0;       ///< peak ratio < 1

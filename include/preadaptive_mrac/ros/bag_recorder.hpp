@@ -103,6 +103,11 @@ class BagRecorder {
   ros::Publisher progress_pub_;
   int progress_every_ = 100;
   std::map<std::string, std::uint64_t> counts_;
+  /// PlantState topics recorded, and whether each reached its plant's last step: a bag
+  /// closed before that (a launch ended by another node's refusal, an interrupted run) is
+  /// renamed <name>.incomplete.bag, so it does not pass for a run (a bag of no message at all
+  /// is removed).
+  std::map<std::string, bool> state_done_;
   std::map<std::string, bool> has_header_;  ///< by datatype
   std::vector<std::uint8_t> buf_;
 };

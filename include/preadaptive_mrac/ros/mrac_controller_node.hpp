@@ -121,6 +121,12 @@ class MracControllerNode {
   std::int64_t decision_events_ = 0;         ///< DECISION events
   std::array<std::int64_t, 5> decisions_{};  ///< decisions (onsets and DECISION) by kind
   std::string last_decision_;                ///< e.g. "fit at t = 45.052 s (score ...)"
+  /// the choice ("fit", "memory #2", ...) last logged at INFO in this phase ("" after a
+  /// recovery, onset or other event without a verification): a repeat is logged at DEBUG
+  /// the last valid state was the plant's last step (step + 1 == total_steps): no stale
+  /// commands after it; a later state (a restarted plant) clears it
+  bool run_over_ = false;
+  std::string logged_choice_;
 
   /// dynamic_reconfigure (~reconfigure) and controller/param_change (issue 11).
   std::unique_ptr<ControllerReconfigure> reconf_;

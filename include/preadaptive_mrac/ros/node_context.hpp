@@ -75,9 +75,21 @@ PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std:
 /// \brief End this process with `code`: the first non-zero code requested wins (a refusal is
 /// not overwritten by a clean end of another node), then ros::requestShutdown(). main()
 /// (a `*_node` executable or pmrac_manager) returns processExitCode().
+/// A normal end (code 0) of a process that roslaunch started (not rostest, not a remote
+/// `--child`) ends the launch instead, as Ctrl-C does: SIGINT to roslaunch, which then stops
+/// every node in order (the nodelet loaders unload from a manager that is still there) and
+/// this process with them. Exiting made roslaunch print a required node's normal end as
+/// "REQUIRED process [...] has died!" and the loaders warn that the manager was gone.
 void requestProcessExit(int code);
 /// \brief The code requested by requestProcessExit (0 when none).
 int processExitCode();
+/// \brief Whether requestProcessExit has been called.
+bool processExitRequested();
+/// \brief pmrac_manager: requestProcessExit only records the code, and main() unloads every
+/// nodelet while ROS is still up before it shuts ROS down. A nodelet's bond says goodbye on its
+/// topic when destroyed; after ros::shutdown() that publisher is invalid and roscpp's assertion
+/// stops the manager with SIGTRAP (seen in 6 of 8 refused compare.launch runs, exit code -5).
+void deferProcessShutdown();
 
 /// \brief Read and validate a node's parameters with `read(tree, style)` (which throws
 /// ConfigError listing every problem). On refusal log each problem (ROS_FATAL, naming its

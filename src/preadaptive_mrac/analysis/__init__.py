@@ -1,5 +1,5 @@
 """Analysis of preadaptive_mrac runs: bags (single-run or compare.launch) and the batch
-CLI's CSV files -> SPEC.md metrics, a comparison against regular adaptive control, PNG
+CLI's CSV files -> docs/spec.md metrics, a comparison against regular adaptive control, PNG
 figures (the paper's Figs. 2-4 and more), metrics.json and metrics.csv.
 
 Modules: runs (the Run record), bags and csv_runs (readers), loading, metrics, report (text,

@@ -140,6 +140,11 @@ def plot_theta(plt, run, m, path, xlim=None):
     axes[0].set_title(
         r"Parameter estimate $\hat\theta$ and true $\theta$: run '%s' (mode %s)"
         % (run.label, run.mode)
+        + '\n'
+        + r'MRAC drives the output error to zero, not $\hat\theta$ to $\theta$: without'
+        + r' persistent excitation (e.g. a constant reference) $\hat\theta$ need not converge'
+        + r' to $\theta$',
+        fontsize=10,
     )
     axes[-1].set_xlabel('time $t$ [s]')
     _xlim(axes[-1], xlim)

@@ -125,11 +125,16 @@ def plot_peaks(plt, runs, metrics, comparison, baseline, path):
     ax.set_xticklabels(names, fontsize=9)
     ax.set_ylim(0, top * 1.15 if top > 0 else 1)
     ax.set_ylabel('peak |e| in window [rad]')
-    ax.set_xlabel('window (from the switch of the true $\\theta$ to the next)')
-    ttl = 'Peak output error per window'
+    xlabel = 'window (from the switch of the true $\\theta$ to the next)'
     if comparison:
-        ttl += " (labels: reduction against '%s')" % comparison['baseline']
-    ax.set_title(ttl)
+        # Say what a "+97%" over a bar is, where the reader looks for units: on the axis.
+        b = comparison['baseline']
+        xlabel += (
+            "\nlabel over a bar: 100 (1 - peak / %s's peak) %%, the peak reduction against %s"
+            "\n(+97%% = a peak 97%% below %s's; negative = above it)" % (b, b, b)
+        )
+    ax.set_xlabel(xlabel)
+    ax.set_title('Peak output error per window')
     _legend(ax)
     _save(fig, path)
     plt.close(fig)

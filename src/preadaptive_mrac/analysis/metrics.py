@@ -1,4 +1,4 @@
-"""SPEC.md metrics of a run and the comparison against a baseline."""
+"""docs/spec.md metrics of a run and the comparison against a baseline."""
 
 import math
 
@@ -42,7 +42,7 @@ def _cum_trapz(y, t):
 
 
 def run_metrics(run):
-    """SPEC.md metrics of one run: windows between switches of the true theta and the
+    """docs/spec.md metrics of one run: windows between switches of the true theta and the
     whole run. Returns a JSON-ready dict."""
     t = run.t_e
     ae = np.abs(run.e)

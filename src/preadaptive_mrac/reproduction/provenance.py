@@ -123,7 +123,7 @@ class ProvenanceHeader:
             )
         lines.append(
             '\n**Settings.** Everything is config/controller/default.yaml and '
-            'config/plant/b747.yaml (the paper\'s values, SPEC.md), seed = '
+            'config/plant/b747.yaml (the paper\'s values, docs/spec.md), seed = '
             '`controller.preadaptation.seed` (the network\'s random initial weights, uniform in '
             '[−init_scale, init_scale]). Two threshold settings are compared throughout: '
             '**paper** (c_e = 0.005 rad, c_ed = 0.02 rad/s) and **all-detect** (c_ed = %s rad/s, '
