@@ -5,16 +5,16 @@
 # a static yaml-cpp (Debian's libyaml-cpp-dev ships libyaml-cpp.a) the batch tools are linked
 # fully static: no dynamic loader, libstdc++ or yaml-cpp relocations at start-up (6.9 -> 5.0 ms
 # per preadapt_sim scenario 1 run, hyperfine, docs/performance.md).
-function(pmrac_library name)
+macro(pmrac_library name)
   add_library(${name}_objects OBJECT ${ARGN})
   set_target_properties(${name}_objects PROPERTIES POSITION_INDEPENDENT_CODE ON)
   add_library(${name} $<TARGET_OBJECTS:${name}_objects>)
   add_library(${name}_static STATIC $<TARGET_OBJECTS:${name}_objects>)
   foreach(t ${name}_objects ${name} ${name}_static)
-    target_include_directories(${t} PUBLIC
-      $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> ${EIGEN3_INCLUDE_DIRS})
+    target_include_directories(${t} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+    target_link_libraries(${t} PUBLIC Eigen3::Eigen)
   endforeach()
-endfunction()
+endmacro()
 
 # The core: Eigen + STL only. Nothing here may include a ROS header.
 pmrac_library(preadaptive_mrac_core
@@ -43,8 +43,6 @@ pmrac_library(preadaptive_mrac_io
   src/io/weights_io.cpp
   src/io/setup.cpp)
 target_link_libraries(preadaptive_mrac_io_objects PUBLIC yaml-cpp)
-target_compile_definitions(preadaptive_mrac_io_objects PRIVATE
-  PREADAPTIVE_MRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
 target_link_libraries(preadaptive_mrac_io PUBLIC preadaptive_mrac_core yaml-cpp)
 option(PMRAC_STATIC_TOOLS "link the batch tools (preadapt_sim, _sweep, _family) fully static" ON)
 find_library(PMRAC_YAML_CPP_ARCHIVE NAMES libyaml-cpp.a)
@@ -75,23 +73,13 @@ add_executable(preadapt_family src/tools/preadapt_family.cpp)
 target_link_libraries(preadapt_family preadaptive_mrac_cli_static)
 add_executable(preadapt_margins src/tools/preadapt_margins.cpp)
 target_link_libraries(preadapt_margins preadaptive_mrac_cli_static)
-set_target_properties(preadapt_sim preadapt_sweep preadapt_family preadapt_margins PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+# Command-line tools: catkin's global bin (on PATH once a devel or install space is sourced),
+# with a link in the package's lib/ so that `rosrun preadaptive_mrac preadapt_sim` works too.
+set(PMRAC_BATCH_TOOLS preadapt_sim preadapt_sweep preadapt_family preadapt_margins)
+set_target_properties(${PMRAC_BATCH_TOOLS} PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_BIN_DESTINATION})
 if(PMRAC_TOOLS_FULLY_STATIC)
-  foreach(t preadapt_sim preadapt_sweep preadapt_family preadapt_margins)
+  foreach(t ${PMRAC_BATCH_TOOLS})
     target_link_options(${t} PRIVATE -static)
   endforeach()
 endif()
-
-install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS preadapt_sim preadapt_sweep preadapt_family preadapt_margins RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
-install(DIRECTORY config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
-  OPTIONAL)
-
-# Python tools (run with the system python3 that has the ROS modules): thin entry points; the
-# code is the Python package src/preadaptive_mrac (catkin_python_setup() in CMakeLists.txt).
-catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers
-  DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

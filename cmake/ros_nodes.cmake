@@ -11,6 +11,10 @@ add_library(preadaptive_mrac_ros_params
   src/ros/tick_source.cpp)
 target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)
 
+# ROS headers for everything from here on (the core and io libraries above have none). The
+# generated message and dynamic_reconfigure headers (devel include/) are on the path already:
+# generate_messages() and generate_dynamic_reconfigure_options() add them.
+include_directories(SYSTEM ${catkin_INCLUDE_DIRS})
 add_library(preadaptive_mrac_ros
   src/ros/ros_params.cpp
   src/ros/node_context.cpp
@@ -19,9 +23,6 @@ add_library(preadaptive_mrac_ros
   src/ros/run_monitor.cpp
   src/ros/bag_recorder.cpp
   src/ros/controller_reconfigure.cpp)
-target_include_directories(preadaptive_mrac_ros PUBLIC
-  ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
-target_include_directories(preadaptive_mrac_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
 target_link_libraries(preadaptive_mrac_ros PUBLIC preadaptive_mrac_ros_params ${catkin_LIBRARIES})
 add_dependencies(preadaptive_mrac_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
@@ -46,11 +47,6 @@ target_link_libraries(pmrac_manager preadaptive_mrac_ros)
 set_target_properties(pmrac_manager PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
-install(TARGETS preadaptive_mrac_ros_params preadaptive_mrac_ros preadaptive_mrac_nodelets
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node pmrac_manager
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 # Issue 11: LD_PRELOAD shim that keeps roscpp's XML-RPC server (which binds 0.0.0.0 whatever
 # ROS_IP says) on loopback in single-machine runs; preloaded by scripts/lib/ros_env.
@@ -58,4 +54,3 @@ add_library(pmrac_loopback_bind SHARED src/loopback/loopback_bind.cpp)
 target_link_libraries(pmrac_loopback_bind ${CMAKE_DL_LIBS})
 set_target_properties(pmrac_loopback_bind PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -15,11 +16,20 @@ namespace preadaptive_mrac {
 
 std::string configDir() {
   if (const char* env = std::getenv("PREADAPTIVE_MRAC_CONFIG_DIR")) return env;
-#ifdef PREADAPTIVE_MRAC_CONFIG_DIR
-  return PREADAPTIVE_MRAC_CONFIG_DIR;
-#else
-  return "config";
-#endif
+  // Found from where the executable is, never from a path compiled in: the package may be used
+  // from its devel space, an install space or a Debian package, with the source gone. A tool
+  // sits in <prefix>/bin (the batch tools) or <prefix>/lib/preadaptive_mrac (nodes, tests;
+  // rosrun's links resolve to bin), and the package's files in <prefix>/share/preadaptive_mrac
+  // (in a devel space config/ there is a link to the source's, made by CMake).
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    for (const char* up : {"..", "../.."}) {
+      const std::filesystem::path dir = exe.parent_path() / up / "share/preadaptive_mrac/config";
+      if (std::filesystem::is_directory(dir, ec)) return dir.lexically_normal().string();
+    }
+  }
+  return "config";  // neither: relative to the working directory (a source checkout)
 }
 
 std::string scenarioPath(const std::string& arg) {

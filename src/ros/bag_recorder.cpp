@@ -160,6 +160,10 @@ void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEven
   ros::Time t = ros::Time::now();
   const PlantState* state = nullptr;
   if constexpr (ros::message_traits::HasHeader<M>::value) t = msg.header.stamp;
+  // tf has no header of its own: its transforms' stamp (simulation time in lockstep, where
+  // ROS time is the wall clock and not the run's time).
+  if constexpr (std::is_same<M, tf2_msgs::TFMessage>::value)
+    if (!msg.transforms.empty()) t = msg.transforms.front().header.stamp;
   if constexpr (std::is_same<M, PlantState>::value) state = &msg;
   record(topic, t, msg, ev.getConnectionHeaderPtr(), state);
 }

@@ -252,6 +252,7 @@ void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>
     }
   }
   ++states_received_;
+  latest_stamp_ = std::max(latest_stamp_, msg->header.stamp.toSec());
   if (!ctl_.needsTruth()) {
     process(*msg, nullptr);
     return;
@@ -352,12 +353,14 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   have_last_ = true;
   last_step_ = msg.step;
   std::string why;
-  // The time a valid state refreshes the staleness timer with. Under /use_sim_time the
-  // state's own stamp (its sample time): this node's /clock arrives on another connection
-  // and can lag the states (measured: 64 ms in a loaded lockstep pa_learn_exact run, which
-  // made the timer fire between two states). On the wall clock, the time of receipt.
-  const double now = ros::Time::now().toSec();
-  const double refresh = ros::Time::isSimTime() ? msg.header.stamp.toSec() : now;
+  // The time a valid state refreshes the staleness timer with. In lockstep (and under
+  // /use_sim_time) the state's own stamp (its sample time): a /clock arrives on another
+  // connection and can lag the states (measured: 64 ms in a loaded lockstep pa_learn_exact
+  // run, which made the timer fire between two states). On the wall clock, the time of receipt.
+  const double now = staleNow();
+  const double refresh = params_.clock == ClockMode::kLockstep || ros::Time::isSimTime()
+                             ? msg.header.stamp.toSec()
+                             : now;
   if (!state_guard_.accept(refresh, msg.x.data(), msg.x.size(), &why, "x")) {
     answerRejected(msg, why);
     return;
@@ -507,9 +510,13 @@ ElevatorCommand::ConstPtr MracControllerNode::safeCommand(const ros::Time& stamp
   return c;
 }
 
+double MracControllerNode::staleNow() const {
+  return params_.clock == ClockMode::kLockstep ? latest_stamp_ : ros::Time::now().toSec();
+}
+
 void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
   if (failed_) return;
-  const double now = ros::Time::now().toSec();
+  const double now = staleNow();
   // Before the first valid state there is nothing to hold (and no plant to command).
   if (state_guard_.haveValid() && state_guard_.stale(now) && !run_over_) {
     if (!stale_) {
@@ -530,7 +537,8 @@ void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
     safe_step_ = std::max(safe_step_ + 1, last_step_ + 1);
     const double t = last_valid_t_ + static_cast<double>(safe_step_ - last_valid_step_) *
                                          params_.run.controller.sample_time;
-    cmd_pub_.publish(safeCommand(ros::Time::now(), safe_step_, t, true));
+    const ros::Time stamp = params_.clock == ClockMode::kLockstep ? ros::Time(t) : ros::Time::now();
+    cmd_pub_.publish(safeCommand(stamp, safe_step_, t, true));
     ++stale_commands_;
   }
   updater_.update();

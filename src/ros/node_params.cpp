@@ -85,6 +85,20 @@ void appendProblems(std::vector<std::string>* out, const std::vector<std::string
   out->insert(out->end(), in.begin(), in.end());
 }
 
+// ~clock of the plant and the controller (key "clock"): lockstep | realtime.
+ClockMode readClockMode(ParamReader& r, const ParamValue& tree, const std::string& key,
+                        ClockMode fallback) {
+  const std::string clock =
+      r.getString(key, fallback == ClockMode::kLockstep ? "lockstep" : "realtime");
+  if (clock == "lockstep") return ClockMode::kLockstep;
+  if (clock == "realtime") return ClockMode::kRealtime;
+  const ParamValue* value = tree.findPath(key);
+  // (a value of the wrong type was already reported by getString)
+  if (value != nullptr && value->type() == ParamValue::Type::kString)
+    r.fail(key, "expected lockstep or realtime, got '" + clock + "'");
+  return fallback;
+}
+
 }  // namespace
 
 std::string defaultsLine(const std::vector<std::string>& defaults_used) {
@@ -103,16 +117,7 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
   ParamReader r(tree, style);
   p.dt = r.getDouble("dt", p.dt);
   requireRange(r, "dt", p.dt, 0.0, 1.0, true);
-  const ParamValue* clock_value = tree.findPath("clock");
-  const std::string clock = r.getString("clock", "lockstep");
-  if (clock == "lockstep") {
-    p.clock = ClockMode::kLockstep;
-  } else if (clock == "realtime") {
-    p.clock = ClockMode::kRealtime;
-  } else if (clock_value != nullptr && clock_value->type() == ParamValue::Type::kString) {
-    // (a value of the wrong type was already reported by getString)
-    r.fail("clock", "expected lockstep or realtime, got '" + clock + "'");
-  }
+  p.clock = readClockMode(r, tree, "clock", ClockMode::kLockstep);
   p.rate = r.getDouble("rate", p.rate);
   requireRange(r, "rate", p.rate, 0.0, 100000.0, true);
   p.publish_clock = r.getBool("publish_clock", p.publish_clock);
@@ -222,6 +227,7 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   p.queue_size = readCount(r, "queue_size", p.queue_size, 0, 100000000);
   p.stale_timeout = r.getDouble("stale_timeout", p.stale_timeout);
   requireRange(r, "stale_timeout", p.stale_timeout, 0.0, 1e6, true);
+  p.clock = readClockMode(r, tree, "clock", ClockMode::kRealtime);
   p.diagnostic_period = r.getDouble("diagnostic_period", p.diagnostic_period);
   requireRange(r, "diagnostic_period", p.diagnostic_period, 0.0, 3600.0, true);
   p.rt_priority = readCount(r, "rt_priority", p.rt_priority, 0, 99);
@@ -232,7 +238,7 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
       tree, r,
       {"plant", "controller", "scenario", "weights_in", "weights_out", "save_every_episode",
        "min_command_subscribers", "min_status_subscribers", "start_timeout", "truth_buffer",
-       "queue_size", "stale_policy", "stale_timeout", "diagnostic_period", "rt_priority",
+       "queue_size", "stale_policy", "stale_timeout", "clock", "diagnostic_period", "rt_priority",
        "cpu_affinity", "accept_from",
        // written by the dynamic_reconfigure server (~reconfigure/*), never read
        "reconfigure"});

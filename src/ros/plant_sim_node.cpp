@@ -4,6 +4,7 @@
 #include <ros/callback_queue.h>
 #include <rosgraph_msgs/Clock.h>
 #include <std_msgs/Bool.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <boost/make_shared.hpp>
 #include <cmath>
@@ -59,8 +60,9 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
   if (params_.clock == ClockMode::kLockstep && params_.publish_clock) {
     // Latched, so a node that starts late (rosbag waits for a valid clock before it
     // subscribes to anything) sees the current time at once.
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10, true);
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("clock", 10, true);
   }
+  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("tf", 100);
   cmd_sub_ = own.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback,
                            this, ros::TransportHints().tcpNoDelay());
   cmd_topic_ = cmd_sub_.getTopic();
@@ -291,11 +293,13 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   state_pub_.publish(last_state_);
 
   if (k % static_cast<std::uint64_t>(params_.tf_decimation) == 0) {
-    std::vector<geometry_msgs::TransformStamped> tfs;
-    tfs.push_back(pitchTransform(stamp, params_.world_frame, params_.body_frame, -theta_pitch_));
+    const auto tfs = boost::make_shared<tf2_msgs::TFMessage>();
+    tfs->transforms.push_back(
+        pitchTransform(stamp, params_.world_frame, params_.body_frame, -theta_pitch_));
     // The velocity vector lies alpha below the nose: rotate the body frame nose-down by alpha.
-    tfs.push_back(pitchTransform(stamp, params_.body_frame, params_.velocity_frame, x[out]));
-    tf_.sendTransform(tfs);
+    tfs->transforms.push_back(
+        pitchTransform(stamp, params_.body_frame, params_.velocity_frame, x[out]));
+    tf_pub_.publish(tf2_msgs::TFMessage::ConstPtr(tfs));
   }
 }
 
@@ -411,6 +415,7 @@ void PlantSimNode::linger() {
   state_pub_.shutdown();
   truth_pub_.shutdown();
   clock_pub_.shutdown();
+  tf_pub_.shutdown();
   cmd_sub_.shutdown();
   progress_sub_.shutdown();
   ready_sub_.shutdown();

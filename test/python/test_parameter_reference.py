@@ -54,7 +54,7 @@ def node_keys():
     """Private parameters each node reads, from its source."""
     keys = {}
     npc = read('src/ros/node_params.cpp')
-    rx = r'(?:r\.get\w+\(|readCount\(r, |readCallerList\(r, tree, )"(\w+)"'
+    rx = r'(?:r\.get\w+\(|readCount\(r, |readCallerList\(r, tree, |readClockMode\(r, tree, )"(\w+)"'
     keys['plant_sim_node'] = set(re.findall(rx, function_body(npc, 'readPlantNodeParams')))
     keys['mrac_controller_node'] = set(
         re.findall(rx, function_body(npc, 'readControllerNodeParams'))

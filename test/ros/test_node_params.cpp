@@ -127,6 +127,21 @@ TEST(ControllerNodeParams, DefaultsFromThePackageConfig) {
   EXPECT_EQ(p.run.controller.mode, pm::Mode::kPaLearn);
   EXPECT_EQ(p.run.controller.hidden, 3);
   EXPECT_EQ(p.stale_policy, pm::StalePolicy::kBaselineHold);
+  EXPECT_EQ(p.clock, pm::ros1::ClockMode::kRealtime);
+}
+
+// ~clock: the launch files pass their clock arg, so that in lockstep the controller measures
+// staleness in the states' stamps and needs no /clock (two runs in two namespaces at once).
+TEST(ControllerNodeParams, ClockLockstepOrRealtimeAndNothingElse) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  tree.setPath("clock", pm::ParamValue::makeString("lockstep"));
+  EXPECT_EQ(pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")).clock,
+            pm::ros1::ClockMode::kLockstep);
+  tree.setPath("clock", pm::ParamValue::makeString("sim"));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/ns/mrac_controller")); });
+  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/clock: expected lockstep or realtime"))
+      << joined(probs);
 }
 
 TEST(ControllerNodeParams, MissingKeyWrongTypeAndUnknownTogether) {

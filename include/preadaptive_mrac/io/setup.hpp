@@ -16,8 +16,9 @@
 
 namespace preadaptive_mrac {
 
-/// \brief The package's config/ directory (set at build time; PREADAPTIVE_MRAC_CONFIG_DIR
-/// in the environment overrides it).
+/// \brief The package's config/ directory: $PREADAPTIVE_MRAC_CONFIG_DIR if set, else
+/// share/preadaptive_mrac/config of the prefix (devel or install space) the running executable
+/// is in, else "config" (relative to the working directory).
 std::string configDir();
 /// \brief "1" | "2" | "3" -> config/scenarios/scenarioN.yaml; anything else is a path.
 std::string scenarioPath(const std::string& arg);

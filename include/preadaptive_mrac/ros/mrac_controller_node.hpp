@@ -101,9 +101,13 @@ class MracControllerNode {
   std::uint64_t last_step_ = 0;
   std::int64_t gaps_ = 0, steps_ = 0, episodes_saved_ = -1;
 
-  // Staleness (ROS time: wall time, or simulation time under /use_sim_time, so a lockstep
-  // plant that pauses does not make the controller stale).
+  // Staleness: ~clock lockstep measures it in the states' stamps (simulation time, so a
+  // lockstep plant that pauses does not make the controller stale, and no ROS clock shared
+  // with other runs is involved); realtime in ROS time.
   bool stale_ = false;
+  double latest_stamp_ = 0.0;  ///< lockstep: stamp [s] of the latest state received
+  /// \brief Now for the staleness check [s]: the latest state's stamp in lockstep, else ROS time.
+  double staleNow() const;
   std::uint64_t last_valid_step_ = 0;  ///< step of the last valid state
   double last_valid_t_ = 0.0;          ///< its sample time [s]
   std::uint64_t safe_step_ = 0;        ///< step of the last command from the staleness timer

@@ -14,9 +14,10 @@
 namespace preadaptive_mrac {
 namespace ros1 {
 
-/// \brief How the plant node advances time.
+/// \brief How the plant node advances time (and, for the controller, which clock measures
+/// staleness).
 enum class ClockMode {
-  kLockstep,  ///< one step per answered command, /clock published: deterministic, fast
+  kLockstep,  ///< one step per answered command, simulation time in the stamps: deterministic, fast
   kRealtime,  ///< wall-clock timer, zero-order hold on the latest command
 };
 const char* clockModeName(ClockMode m);
@@ -92,10 +93,14 @@ struct ControllerNodeParams {
   StalePolicy stale_policy = StalePolicy::kBaselineHold;
   int queue_size = 0;  ///< ~queue_size: per-subscriber outgoing queue of the
                        ///< per-step topics; 0 = unbounded (nothing dropped)
-  /// ~stale_timeout: with no valid state for this ROS time [s] (wall time unless
-  /// /use_sim_time) the controller publishes the ~stale_policy command at its sample rate and
-  /// does not adapt; (0, 1e6].
+  /// ~stale_timeout: with no valid state for this time [s] (in ~clock's time) the controller
+  /// publishes the ~stale_policy command at its sample rate and does not adapt; (0, 1e6].
   double stale_timeout = 0.05;
+  /// ~clock: lockstep | realtime (default). lockstep: staleness is measured in the states'
+  /// own stamps (simulation time), so a plant that waits (for a recorder, a restarted peer)
+  /// never makes the controller stale, and no ROS clock (/clock, /use_sim_time, shared by
+  /// every run on the master) is needed; realtime: in ROS time at receipt.
+  ClockMode clock = ClockMode::kRealtime;
   double diagnostic_period = 1.0;  ///< ~diagnostic_period: read by diagnostic_updater [s]
   /// Every optional key left out and filled with its default (the node's own, then the plant
   /// and controller sections').

@@ -6,7 +6,6 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include <cstdint>
 #include <mutex>
@@ -88,6 +87,10 @@ class PlantSimNode {
   PlantNodeParams params_;
   ScenarioPlant sim_;
   ros::Publisher state_pub_, truth_pub_, clock_pub_;
+  /// tf (tf2_msgs/TFMessage) and clock, relative: /tf and /clock at the top level, under the
+  /// namespace otherwise, so that runs side by side do not mix (a tf2_ros::TransformBroadcaster
+  /// would publish on /tf whatever the namespace, and a nodelet's remappings do not reach it).
+  ros::Publisher tf_pub_;
   /// plant/done: the last state, latched, once the run completed; kept open while lingering
   /// so that a run monitor that subscribed late still learns that the run completed.
   ros::Publisher done_pub_;
@@ -95,7 +98,6 @@ class PlantSimNode {
   ros::Subscriber cmd_sub_, progress_sub_;
   ros::Subscriber ready_sub_;      ///< controller/ready (~wait_for_controller, lockstep)
   bool controller_ready_ = false;  ///< set on queue_ (the plant's own thread)
-  tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater updater_;
   PublisherGuard cmd_guard_;  ///< ~accept_from on the command topic
   std::string cmd_topic_;     ///< resolved command topic, for the guard's warnings

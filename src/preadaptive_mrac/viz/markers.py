@@ -64,7 +64,8 @@ class VizMarkers:
         self.tf_pub = None
         if self.publish_tf:
             self.tf_cls = tf_message_class()
-            self.tf_pub = rospy.Publisher('/tf', self.tf_cls, queue_size=100)
+            # relative, like the plant's: /tf at the top level, the run's own in a namespace
+            self.tf_pub = rospy.Publisher('tf', self.tf_cls, queue_size=100)
         self.pub = rospy.Publisher('aircraft_markers', MarkerArray, queue_size=2)
         self.subs = [
             DynamicSubscriber('plant/state', self.on_state, 200),

@@ -1,0 +1,61 @@
+# Install space (catkin_make install, catkin build with install, a Debian package built from it):
+# everything a user of the package needs, found at run time through share/preadaptive_mrac
+# (rospack, $(find preadaptive_mrac), or relative to the executable: configDir()), never through
+# the source tree. Whole folders where possible, so a file added to one is installed without a
+# change here. Left out on purpose (development only, and catkin_lint is told so in
+# test/scripts/catkin_lint.sh): bench/ (benchmarks, wakeup_floor, bench_controller), fuzz/,
+# test/ and the development scripts (check_format, test, install_deps, run_demo, the studies,
+# fuzz, junit_wrap, python_files, summarize_tests, slurm/, two_machines_env.sh), which expect
+# a source checkout.
+
+# Libraries: the exported ones (catkin_package LIBRARIES), the nodes' and nodelets' (the
+# plugin file names lib/libpreadaptive_mrac_nodelets) and the loopback shim (scripts/lib/ros_env).
+install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
+                preadaptive_mrac_ros_params preadaptive_mrac_ros preadaptive_mrac_nodelets
+                pmrac_loopback_bind
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
+
+# Nodes and the nodelet manager: rosrun / roslaunch find them in lib/preadaptive_mrac.
+install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node pmrac_manager
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# Batch tools: catkin's global bin, on PATH once the space is sourced; and for rosrun (which
+# looks in lib/preadaptive_mrac only) a relative link there to each, in the devel space and
+# installed (install() keeps a link a link).
+install(TARGETS ${PMRAC_BATCH_TOOLS} RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
+file(MAKE_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
+     ${CMAKE_CURRENT_BINARY_DIR}/rosrun_links)
+foreach(tool ${PMRAC_BATCH_TOOLS})
+  file(RELATIVE_PATH _pmrac_link /${CATKIN_PACKAGE_BIN_DESTINATION}
+       /${CATKIN_GLOBAL_BIN_DESTINATION}/${tool})
+  foreach(dir ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
+              ${CMAKE_CURRENT_BINARY_DIR}/rosrun_links)
+    file(CREATE_LINK ${_pmrac_link} ${dir}/${tool} SYMBOLIC)
+  endforeach()
+  #catkin_lint: ignore_once missing_file (made above, at configure time)
+  install(PROGRAMS ${CMAKE_CURRENT_BINARY_DIR}/rosrun_links/${tool}
+    DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+
+# The devel space has no copy of the package's files; the batch tools find config/ there
+# through this link (configDir(): share/preadaptive_mrac/config beside the executable's prefix).
+file(MAKE_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION})
+file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR}/config
+     ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/config SYMBOLIC)
+
+install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
+# Launch files, YAML configuration, rviz view, the dynamic_reconfigure definition and the
+# nodelet plugin description (package.xml exports ${prefix}/nodelet_plugins.xml).
+install(DIRECTORY config launch rviz cfg DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+
+# Python tools for users (run with the system python3 that has the ROS modules): thin entry
+# points of the Python package src/preadaptive_mrac (catkin_python_setup() installs it).
+catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers scripts/live_plot
+                               scripts/reindex_bags
+  DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+# roslaunch that exits non-zero when a node died (docs/ros.md), with the environment it sources.
+install(PROGRAMS scripts/lib/launch_checked DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(FILES scripts/lib/ros_env DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
