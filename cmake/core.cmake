@@ -23,6 +23,12 @@ pmrac_library(preadaptive_mrac_core
   src/core/plant.cpp
   src/core/scenario.cpp
   src/core/network.cpp
+  src/core/controller_config.cpp
+  src/core/robust_config.cpp
+  src/core/event.cpp
+  src/core/velocity_estimator.cpp
+  src/core/attention.cpp
+  src/core/sensitivity_tracker.cpp
   src/core/controller.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp
