@@ -29,6 +29,8 @@ pmrac_library(preadaptive_mrac_core
   src/core/velocity_estimator.cpp
   src/core/attention.cpp
   src/core/sensitivity_tracker.cpp
+  src/core/mrac_law.cpp
+  src/core/mode_registry.cpp
   src/core/controller.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp
