@@ -530,6 +530,9 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   } else if (input_guard_.dropped() > 0) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                  "input from foreign publishers dropped (~accept_from)");
+  } else if (!reconf_->lastRefusal().empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 "reconfigure refused: " + reconf_->lastRefusal());
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
   }
@@ -563,6 +566,7 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("plant restarts", plant_restarts_);
   stat.add("reconfigure changes applied", reconf_->applied());
   stat.add("reconfigure requests refused", reconf_->refused());
+  stat.add("last reconfigure refusal", reconf_->lastRefusal());
   stat.add("accept from", input_guard_.acceptedText());
   stat.add("foreign publisher drops", input_guard_.dropped());
   stat.add("foreign publishers", input_guard_.droppedText());
