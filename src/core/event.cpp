@@ -1,37 +1,27 @@
 #include "preadaptive_mrac/core/event.hpp"
 
+#include <cstddef>
+
 namespace preadaptive_mrac {
 
+namespace {
+template <size_t N, class E>
+const char* nameOf(const char* const (&names)[N], E value) {
+  const auto i = static_cast<size_t>(value);
+  return i < N ? names[i] : "?";
+}
+}  // namespace
+
+// In the order of the enumerators (event.hpp).
 const char* eventTypeName(Event::Type t) {
-  switch (t) {
-    case Event::Type::kOnset:
-      return "onset";
-    case Event::Type::kRecovered:
-      return "recovered";
-    case Event::Type::kIgnoredOnset:
-      return "ignored_onset";
-    case Event::Type::kIgnoredRecovery:
-      return "ignored_recovery";
-    case Event::Type::kDecision:
-      return "decision";
-  }
-  return "?";
+  static const char* const kNames[] = {"onset", "recovered", "ignored_onset", "ignored_recovery",
+                                       "decision"};
+  return nameOf(kNames, t);
 }
 
 const char* decisionName(Event::Decision d) {
-  switch (d) {
-    case Event::Decision::kNone:
-      return "none";
-    case Event::Decision::kKeep:
-      return "keep";
-    case Event::Decision::kFit:
-      return "fit";
-    case Event::Decision::kMemory:
-      return "memory";
-    case Event::Decision::kNetwork:
-      return "network";
-  }
-  return "?";
+  static const char* const kNames[] = {"none", "keep", "fit", "memory", "network"};
+  return nameOf(kNames, d);
 }
 
 }  // namespace preadaptive_mrac

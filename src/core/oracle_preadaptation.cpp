@@ -24,15 +24,12 @@ void OraclePreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   ev->reset = true;
 }
 
-void OraclePreadaptation::duringPhase(const Sample& s, double u, const Vec& theta_hat) {
-  (void)u;
-  (void)theta_hat;
+// The phase cost only (no learning): E = integral |e| dt, reported at the recovery.
+void OraclePreadaptation::duringPhase(const Sample& s, double /*u*/, const Vec& /*theta_hat*/) {
   phase_cost_ += std::abs(s.e) * dt_;
 }
 
-void OraclePreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) {
-  (void)s;
-  (void)theta_hat;
+void OraclePreadaptation::onRecovery(const Sample& /*s*/, const Vec& /*theta_hat*/, Event* ev) {
   ev->cost = phase_cost_;
 }
 
