@@ -51,6 +51,7 @@ Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg,
   ctx.out = out_;
   ctx.net = &net_;
   law_ = mode->make_law(ctx);
+  mrac_ = dynamic_cast<MracLaw*>(law_.get());
   strategy_ = mode->make_strategy(ctx);
   reset();
 }
@@ -83,6 +84,7 @@ Controller& Controller::operator=(const Controller& o) {
   attention_ = o.attention_;
   net_ = o.net_;
   law_ = o.law_->clone();
+  mrac_ = dynamic_cast<MracLaw*>(law_.get());
   strategy_ = o.strategy_->clone(&net_);
   pending_ = o.pending_;
   return *this;
@@ -214,7 +216,7 @@ StepOutput Controller::step(const StepInput& in) {
   li.ev = &ev_;
   li.r = in.r;
   out.u_baseline = -dotOf(K_, x);
-  out.u_adaptive = law_->command(li);
+  out.u_adaptive = lawCommand(li);
   out.u_unsaturated = out.u_baseline + out.u_adaptive;
   // The command the actuator can follow; the plant applies the same limits.
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);
@@ -227,7 +229,7 @@ StepOutput Controller::step(const StepInput& in) {
   if (attention_.phaseActive()) strategy_->duringPhase(smp, out.u, theta_hat);
   // The adaptive law to t_{k+1}; frozen while the elevator is limited (the plant does not get
   // the u the law assumes).
-  law_->advance(li, !(out.saturated && cfg_.freeze_when_saturated));
+  lawAdvance(li, !(out.saturated && cfg_.freeze_when_saturated));
   if (strategy_->refine(&theta_hat)) law_->constrain();
   // Reference model (eq. refmodel), RK4 with r held over the sample.
   lazyProductPlus(Phi_r_, x_r_, Gam_r_, in.r, &x_r_);

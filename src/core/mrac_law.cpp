@@ -27,19 +27,10 @@ void MracLaw::constrain() {
   if (projection_) clampToBall(&theta_hat_, theta_max_);
 }
 
-double MracLaw::command(const LawInput& in) const { return -dotOf(theta_hat_, *in.x) + k0_ * in.r; }
-
-void MracLaw::advance(const LawInput& in, bool adapt) {
-  if (!adapt) return;
-  scaledTo(gamma_ * dotOf(*in.ev, PB_), *in.x, &upd_);
-  if (projection_) {
-    project(theta_hat_, &upd_);
-    addScaled(dt_, upd_, &theta_hat_);
-    clampToBall(&theta_hat_,
-                theta_max_);  // the Euler step can overshoot the boundary layer by O(dt)
-  } else {
-    addScaled(dt_, upd_, &theta_hat_);
-  }
+void MracLaw::advanceProjected() {
+  project(theta_hat_, &upd_);
+  addScaled(dt_, upd_, &theta_hat_);
+  clampToBall(&theta_hat_, theta_max_);  // the Euler step can overshoot the boundary layer by O(dt)
 }
 
 void MracLaw::setTunables(const ControllerConfig& cfg) {

@@ -13,6 +13,7 @@
 #include "preadaptive_mrac/core/controller_config.hpp"
 #include "preadaptive_mrac/core/event.hpp"
 #include "preadaptive_mrac/core/input_guard.hpp"
+#include "preadaptive_mrac/core/mrac_law.hpp"
 #include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
@@ -124,6 +125,18 @@ class Controller {
   Attention attention_;
   PreadaptNetwork net_;
   std::unique_ptr<AdaptiveLaw> law_;  // owns theta_hat
+  // law_ when it is the MRAC law: called without the virtual call (inlined: the hot path of
+  // every mode today; 3-5 % of preadapt_sim's time otherwise, docs/design.md)
+  MracLaw* mrac_ = nullptr;
+  double lawCommand(const LawInput& in) const {
+    return mrac_ != nullptr ? mrac_->command(in) : law_->command(in);
+  }
+  void lawAdvance(const LawInput& in, bool adapt) {
+    if (mrac_ != nullptr)
+      mrac_->advance(in, adapt);
+    else
+      law_->advance(in, adapt);
+  }
   std::unique_ptr<PreadaptationStrategy> strategy_;
   std::optional<ControllerTunables> pending_;  // queued by setTunables, applied by step()
   void applyTunables(const ControllerTunables& t);

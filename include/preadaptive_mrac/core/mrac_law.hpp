@@ -5,13 +5,14 @@
 /// smooth projection onto Omega = {|theta| <= theta_max}.
 
 #include "preadaptive_mrac/core/adaptive_law.hpp"
+#include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
 
 struct ModeContext;
 
 /// \brief The MRAC law of the paper with the projection option (SPEC.md "Adaptation").
-class MracLaw : public AdaptiveLaw {
+class MracLaw final : public AdaptiveLaw {
  public:
   /// \brief PB = P B [-], theta_hat0 the initial estimate, dt [s]; gains from `cfg`.
   MracLaw(const ControllerConfig& cfg, const Vec& PB);
@@ -20,11 +21,23 @@ class MracLaw : public AdaptiveLaw {
   const Vec& estimate() const override { return theta_hat_; }
   Vec* mutableEstimate() override { return &theta_hat_; }
   void constrain() override;
-  double command(const LawInput& in) const override;
-  void advance(const LawInput& in, bool adapt) override;
+  double command(const LawInput& in) const override {
+    return -dotOf(theta_hat_, *in.x) + k0_ * in.r;
+  }
+  void advance(const LawInput& in, bool adapt) override {
+    if (!adapt) return;
+    scaledTo(gamma_ * dotOf(*in.ev, PB_), *in.x, &upd_);
+    if (projection_) {
+      advanceProjected();
+    } else {
+      addScaled(dt_, upd_, &theta_hat_);
+    }
+  }
   void setTunables(const ControllerConfig& cfg) override;
 
  private:
+  /// \brief The Euler step of upd_ projected onto Omega.
+  void advanceProjected();
   /// \brief Smooth projection (Pomet-Praly) of the update direction y at theta.
   void project(const Vec& theta, Vec* y) const;
   Vec PB_, theta_hat0_, theta_hat_, upd_;
