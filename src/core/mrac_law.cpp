@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "preadaptive_mrac/core/controller_config.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {

@@ -4,7 +4,7 @@
 
 #include "preadaptive_mrac/core/attention.hpp"
 #include "preadaptive_mrac/core/controller_config.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
 
 namespace preadaptive_mrac {
 

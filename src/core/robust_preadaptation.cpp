@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/attention.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {

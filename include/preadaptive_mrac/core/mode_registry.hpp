@@ -13,28 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/types.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
 
 namespace preadaptive_mrac {
 
-struct ControllerConfig;
-struct ControllerDesign;
-struct PlantConfig;
 class AdaptiveLaw;
 class PreadaptationStrategy;
-class PreadaptNetwork;
-
-/// \brief What a law's or a strategy's factory gets: the configuration, the plant as the
-/// controller knows it, the design (K, P, A_r) and the network the controller owns.
-struct ModeContext {
-  const ControllerConfig* cfg = nullptr;
-  const PlantConfig* plant = nullptr;
-  const ControllerDesign* design = nullptr;
-  const Vec* B = nullptr;   ///< plant input vector
-  const Vec* PB = nullptr;  ///< P B
-  int out = 1;              ///< index of the output alpha in x
-  PreadaptNetwork* net = nullptr;
-};
 
 /// \brief One registered mode.
 struct ModeEntry {
