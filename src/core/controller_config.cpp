@@ -92,32 +92,29 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
   }
 }
 
+namespace {
+// ControllerConfig and ControllerTunables name the tunables alike: one copy serves both ways.
+template <class From, class To>
+void copyTunables(const From& f, To* t) {
+  t->c_e = f.c_e;
+  t->c_ed = f.c_ed;
+  t->confirm_samples = f.confirm_samples;
+  t->hysteresis = f.hysteresis;
+  t->gamma = f.gamma;
+  t->gamma_pa = f.gamma_pa;
+  t->projection = f.projection;
+  t->theta_max = f.theta_max;
+  t->projection_epsilon = f.projection_epsilon;
+  t->robust = f.robust;
+}
+}  // namespace
+
 ControllerTunables ControllerTunables::of(const ControllerConfig& c) {
   ControllerTunables t;
-  t.c_e = c.c_e;
-  t.c_ed = c.c_ed;
-  t.confirm_samples = c.confirm_samples;
-  t.hysteresis = c.hysteresis;
-  t.gamma = c.gamma;
-  t.gamma_pa = c.gamma_pa;
-  t.projection = c.projection;
-  t.theta_max = c.theta_max;
-  t.projection_epsilon = c.projection_epsilon;
-  t.robust = c.robust;
+  copyTunables(c, &t);
   return t;
 }
 
-void ControllerTunables::applyTo(ControllerConfig* c) const {
-  c->c_e = c_e;
-  c->c_ed = c_ed;
-  c->confirm_samples = confirm_samples;
-  c->hysteresis = hysteresis;
-  c->gamma = gamma;
-  c->gamma_pa = gamma_pa;
-  c->projection = projection;
-  c->theta_max = theta_max;
-  c->projection_epsilon = projection_epsilon;
-  c->robust = robust;
-}
+void ControllerTunables::applyTo(ControllerConfig* c) const { copyTunables(*this, c); }
 
 }  // namespace preadaptive_mrac
