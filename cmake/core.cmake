@@ -34,6 +34,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/controller.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp
+  src/core/identification_window.cpp
   src/core/robust_preadaptation.cpp
   src/core/regime_memory.cpp
   src/core/closed_loop.cpp
