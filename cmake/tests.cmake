@@ -7,6 +7,8 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_${name} preadaptive_mrac_io gtest_main)
     target_include_directories(test_${name} PRIVATE test/core)
   endforeach()
+  target_compile_definitions(test_param_table PRIVATE
+    PMRAC_PARAMS_DIR="${CMAKE_CURRENT_SOURCE_DIR}/params")
   # The CLI test runs the real executable.
   add_dependencies(test_config preadapt_sim preadapt_sweep)
   target_compile_definitions(test_config PRIVATE

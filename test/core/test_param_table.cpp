@@ -11,18 +11,14 @@
 #include "preadaptive_mrac/core/controller_config.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/tunables.hpp"
-#include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 namespace preadaptive_mrac {
 namespace {
 
 const ParamValue& table() {
-  static const ParamValue t = [] {
-    std::string p = defaultControllerPath();  // <pkg>/config/controller/default.yaml
-    for (int i = 0; i < 3; ++i) p = p.substr(0, p.rfind('/'));
-    return loadYamlFile(p + "/params/controller.yaml");
-  }();
+  // The source tree's table (cmake/tests.cmake), wherever the config folder is found.
+  static const ParamValue t = loadYamlFile(std::string(PMRAC_PARAMS_DIR) + "/controller.yaml");
   return t;
 }
 
