@@ -38,6 +38,7 @@
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
@@ -48,18 +49,18 @@ namespace {
 
 constexpr int kPasses = 3;  // whole passes over the 140 000-sample recording per repetition
 
-RunConfig loadConfig(const std::string& scenario, Mode mode) {
+RunConfig loadConfig(const std::string& scenario, const std::string& mode) {
   ParamValue tree = ParamValue::makeMap();
   tree.merge(loadYamlFile(defaultPlantPath()));
   tree.merge(loadYamlFile(defaultControllerPath()));
   tree.merge(loadYamlFile(scenarioPath(scenario)));
-  tree.setPath("controller.mode", ParamValue::makeString(modeName(mode)));
+  tree.setPath("controller.mode", ParamValue::makeString(mode));
   return readRunConfig(tree);
 }
 
 /// A closed-loop run of one mode, recorded for replay.
 struct Recording {
-  Mode mode;
+  std::string mode;
   RunConfig cfg;
   NetworkState net0;
   std::vector<double> t, r, u;
@@ -85,7 +86,7 @@ StepInput inputAt(const Recording& rec, size_t k) {
   return in;
 }
 
-std::unique_ptr<Recording> record(Mode mode) {
+std::unique_ptr<Recording> record(const std::string& mode) {
   auto rec = std::make_unique<Recording>();
   rec->mode = mode;
   rec->cfg = loadConfig("3", mode);
@@ -273,12 +274,11 @@ int main(int argc, char** argv) {
 
   std::vector<std::unique_ptr<Recording>> recs;
   try {
-    for (Mode m : {Mode::kRac, Mode::kPa, Mode::kPaLearn, Mode::kPaLearnExact, Mode::kPaRobust,
-                   Mode::kOracle}) {
+    for (const std::string& m : modeNameList()) {
       recs.push_back(record(m));
       const std::string err = verifyReplay(*recs.back());
       if (!err.empty()) {
-        std::fprintf(stderr, "bench_controller: %s: %s\n", modeName(m), err.c_str());
+        std::fprintf(stderr, "bench_controller: %s: %s\n", m.c_str(), err.c_str());
         return 1;
       }
     }
@@ -288,14 +288,14 @@ int main(int argc, char** argv) {
   }
 
   for (const auto& rec : recs) {
-    const std::string m = modeName(rec->mode);
+    const std::string m = rec->mode;
     benchmark::RegisterBenchmark(("ControllerStep/" + m + "/trajectory").c_str(),
                                  BM_ControllerStepTrajectory, rec.get())
         ->Iterations(static_cast<benchmark::IterationCount>(kPasses * rec->steps()))
         ->Unit(benchmark::kNanosecond);
   }
   for (const auto& rec : recs) {
-    const std::string m = modeName(rec->mode);
+    const std::string m = rec->mode;
     const size_t len = rec->phase_end - rec->phase_begin;
     benchmark::RegisterBenchmark(("ControllerStep/" + m + "/in_phase").c_str(),
                                  BM_ControllerStepInPhase, rec.get())
@@ -316,7 +316,7 @@ int main(int argc, char** argv) {
                                  BM_ScenarioPlantStep, recs.front().get(), p)
         ->Unit(benchmark::kNanosecond);
   for (const auto& rec : recs) {
-    const std::string m = modeName(rec->mode);
+    const std::string m = rec->mode;
     benchmark::RegisterBenchmark(("ClosedLoop/scenario3/" + m).c_str(), BM_ClosedLoopScenario3,
                                  rec.get())
         ->Unit(benchmark::kMillisecond);

@@ -26,9 +26,18 @@ pmrac_library(preadaptive_mrac_core
   src/core/scenario_plant.cpp
   src/core/scenario.cpp
   src/core/network.cpp
+  src/core/controller_config.cpp
+  src/core/robust_config.cpp
+  src/core/event.cpp
+  src/core/velocity_estimator.cpp
+  src/core/attention.cpp
+  src/core/sensitivity_tracker.cpp
+  src/core/mrac_law.cpp
+  src/core/mode_registry.cpp
   src/core/controller.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp
+  src/core/identification_window.cpp
   src/core/robust_preadaptation.cpp
   src/core/regime_memory.cpp
   src/core/closed_loop.cpp

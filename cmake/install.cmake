@@ -48,7 +48,7 @@ file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR}/config
 install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 # Launch files, YAML configuration, rviz view, the dynamic_reconfigure definition and the
 # nodelet plugin description (package.xml exports ${prefix}/nodelet_plugins.xml).
-install(DIRECTORY config launch rviz cfg DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(DIRECTORY config launch params rviz cfg DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 
 # Python tools for users (run with the system python3 that has the ROS modules): thin entry

@@ -1,12 +1,14 @@
 # Tests: gtest for the core (no ROS master), rostest for the nodes (cmake/tests_ros.cmake).
 if(CATKIN_ENABLE_TESTING)
   set(PMRAC_CORE_TESTS solvers attention gradients closed_loop weights_io config safety family
-      robust tunables fast_paths plant_parts margins)
+      robust tunables fast_paths plant_parts margins param_table)
   foreach(name ${PMRAC_CORE_TESTS})
     catkin_add_gtest(test_${name} test/core/test_${name}.cpp)
     target_link_libraries(test_${name} preadaptive_mrac_io gtest_main)
     target_include_directories(test_${name} PRIVATE test/core)
   endforeach()
+  target_compile_definitions(test_param_table PRIVATE
+    PMRAC_PARAMS_DIR="${CMAKE_CURRENT_SOURCE_DIR}/params")
   # The CLI test runs the real executable.
   add_dependencies(test_config preadapt_sim preadapt_sweep)
   target_compile_definitions(test_config PRIVATE

@@ -2,6 +2,10 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/attention.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
+
 namespace preadaptive_mrac {
 
 Detection OraclePreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {
@@ -20,16 +24,17 @@ void OraclePreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   ev->reset = true;
 }
 
-void OraclePreadaptation::duringPhase(const Sample& s, double u, const Vec& theta_hat) {
-  (void)u;
-  (void)theta_hat;
+// The phase cost only (no learning): E = integral |e| dt, reported at the recovery.
+void OraclePreadaptation::duringPhase(const Sample& s, double /*u*/, const Vec& /*theta_hat*/) {
   phase_cost_ += std::abs(s.e) * dt_;
 }
 
-void OraclePreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) {
-  (void)s;
-  (void)theta_hat;
+void OraclePreadaptation::onRecovery(const Sample& /*s*/, const Vec& /*theta_hat*/, Event* ev) {
   ev->cost = phase_cost_;
+}
+
+std::unique_ptr<PreadaptationStrategy> makeOraclePreadaptation(const ModeContext& m) {
+  return std::make_unique<OraclePreadaptation>(m.cfg->sample_time);
 }
 
 }  // namespace preadaptive_mrac

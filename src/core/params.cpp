@@ -33,29 +33,18 @@ std::string joinProblems(const std::vector<std::string>& problems) {
 }
 }  // namespace
 
-ParamValue ParamValue::makeBool(bool v) {
+template <class T>
+ParamValue ParamValue::make(Type type, T ParamValue::*member, T v) {
   ParamValue p;
-  p.type_ = Type::kBool;
-  p.b_ = v;
+  p.type_ = type;
+  p.*member = std::move(v);
   return p;
 }
-ParamValue ParamValue::makeInt(std::int64_t v) {
-  ParamValue p;
-  p.type_ = Type::kInt;
-  p.i_ = v;
-  return p;
-}
-ParamValue ParamValue::makeDouble(double v) {
-  ParamValue p;
-  p.type_ = Type::kDouble;
-  p.d_ = v;
-  return p;
-}
+ParamValue ParamValue::makeBool(bool v) { return make(Type::kBool, &ParamValue::b_, v); }
+ParamValue ParamValue::makeInt(std::int64_t v) { return make(Type::kInt, &ParamValue::i_, v); }
+ParamValue ParamValue::makeDouble(double v) { return make(Type::kDouble, &ParamValue::d_, v); }
 ParamValue ParamValue::makeString(std::string v) {
-  ParamValue p;
-  p.type_ = Type::kString;
-  p.s_ = std::move(v);
-  return p;
+  return make(Type::kString, &ParamValue::s_, std::move(v));
 }
 ParamValue ParamValue::makeList(std::vector<ParamValue> v) {
   ParamValue p;
@@ -165,23 +154,10 @@ std::string ParamValue::describe() const {
 }
 
 const char* ParamValue::typeName(Type t) {
-  switch (t) {
-    case Type::kNull:
-      return "null";
-    case Type::kBool:
-      return "bool";
-    case Type::kInt:
-      return "int";
-    case Type::kDouble:
-      return "double";
-    case Type::kString:
-      return "string";
-    case Type::kList:
-      return "list";
-    case Type::kMap:
-      return "map";
-  }
-  return "?";
+  // In the order of the enumerators (params.hpp).
+  static const char* const kNames[] = {"null", "bool", "int", "double", "string", "list", "map"};
+  const auto i = static_cast<size_t>(t);
+  return i < sizeof(kNames) / sizeof(kNames[0]) ? kNames[i] : "?";
 }
 
 ConfigError::ConfigError(const std::vector<std::string>& problems)

@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "preadaptive_mrac/core/paper_preadaptation.hpp"
+#include "preadaptive_mrac/core/attention.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
@@ -27,16 +28,13 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
       net_(net) {
   sizeWindows();
   const int n = plant.n();
-  phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
-  th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
-  y_.assign(static_cast<size_t>(cap_), 0.0);
+  win_.resize(cap_, Ll_, n);
   x_prev_.setZero(n);
   theta_keep_.setZero(n);
   theta_net_.setZero(n);
   Gr_.setZero(n, n);
   hr_.setZero(n);
   prior_.setZero(n);
-  phi_long_.setZero(n);
   net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
   reset();
 }
@@ -63,17 +61,13 @@ bool RobustPreadaptation::setTunables(const ControllerConfig& cfg) {
   if (memory().size() != before) recalled_ = -1;  // indices moved
   if (Ld_ == ld && Lc_ == lc && Lv_ == lv && Ll_ == ll) return false;
   // The ring's sums and the detection statistics are per window: start them again.
-  const Eigen::Index n = B_.size();
-  phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
-  th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
-  y_.assign(static_cast<size_t>(cap_), 0.0);
+  win_.resize(cap_, Ll_, B_.size());
   reset();
   return true;
 }
 
 void RobustPreadaptation::reset() {
-  head_ = -1;
-  count_ = 0;
+  win_.clear();
   k_ = 0;
   have_prev_ = false;
   rho_ = 0.0;
@@ -89,9 +83,7 @@ void RobustPreadaptation::reset() {
   regime_fit_ = false;
   cr_ = 0.0;
   next_chunk_k_ = 0;
-  phi_long_.setZero();
-  y_long_ = rho_long_ = 0.0;
-  since_refresh_ = 0;
+  rho_long_ = 0.0;
   long_trigger_ = false;
 }
 
@@ -118,60 +110,6 @@ void RobustPreadaptation::residualSample3(const Vec& x, double u_prev, double r_
   }
 }
 
-int RobustPreadaptation::at(int j) const { return ((head_ - j) % cap_ + cap_) % cap_; }
-
-void RobustPreadaptation::push(const Vec& phi, double y, const Vec& theta_hat) {
-  if (Ll_ > 0 && count_ >= Ll_) {  // the sample leaving the long window
-    subtractFrom(phi_[static_cast<size_t>(at(Ll_ - 1))], &phi_long_);
-    y_long_ -= y_[static_cast<size_t>(at(Ll_ - 1))];
-  }
-  head_ = (head_ + 1) % cap_;
-  copyTo(phi, &phi_[static_cast<size_t>(head_)]);
-  y_[static_cast<size_t>(head_)] = y;
-  copyTo(theta_hat, &th_[static_cast<size_t>(head_)]);
-  count_ = std::min(count_ + 1, cap_);
-  if (Ll_ > 0) {
-    addTo(phi, &phi_long_);
-    y_long_ += y;
-    // Rounding builds up in running sums: sum the window afresh every so often.
-    if (++since_refresh_ >= 64 * Ll_ && count_ >= Ll_) {
-      windowSums(0, Ll_, &phi_long_, &y_long_);
-      since_refresh_ = 0;
-    }
-  }
-}
-
-void RobustPreadaptation::windowSums(int j0, int len, Vec* phi, double* y) const {
-  // Newest to oldest, from 0: the order of these sums is part of the results.
-  const Eigen::Index n = B_.size();
-  phi->setZero(n);
-  *y = 0.0;
-  if (fastThree(n) && len > 0) {
-    // The B-747: three running scalars instead of a run-time sized vector, and the ring index
-    // of j + 1 as that of j less one, wrapping (at(j + 1), without its divisions).
-    size_t i = static_cast<size_t>(at(j0));
-    const size_t last = static_cast<size_t>(cap_) - 1;
-    double p0 = 0.0, p1 = 0.0, p2 = 0.0, ys = 0.0;
-    for (int c = 0; c < len; ++c) {
-      const double* v = phi_[i].data();
-      p0 += v[0];
-      p1 += v[1];
-      p2 += v[2];
-      ys += y_[i];
-      i = i == 0 ? last : i - 1;
-    }
-    (*phi)[0] = p0;
-    (*phi)[1] = p1;
-    (*phi)[2] = p2;
-    *y = ys;
-    return;
-  }
-  for (int j = j0; j < j0 + len; ++j) {
-    *phi += phi_[static_cast<size_t>(at(j))];
-    *y += y_[static_cast<size_t>(at(j))];
-  }
-}
-
 double RobustPreadaptation::triggerThreshold() const {
   return std::max(rc_.threshold, rc_.noise_factor * noiseLevel());
 }
@@ -191,27 +129,27 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
       d -= dt_ * (f + B_ * s.u_prev + B1r_ * s.r_prev);
       phi = dt_ * xm;
     }
-    push(phi, dotOf(B_, d) / bb_, theta_hat);
+    win_.push(phi, dotOf(B_, d) / bb_, theta_hat);
   }
   copyTo(x, &x_prev_);
   have_prev_ = true;
   ++k_;
-  if (count_ < Ld_) return Detection::kNone;
+  if (win_.count() < Ld_) return Detection::kNone;
 
   const double Td = Ld_ * dt_;
   Vec phi;
   double y = 0.0;
-  windowSums(0, Ld_, &phi, &y);
+  win_.sums(0, Ld_, &phi, &y);
   rho_ = (y - dotOf(theta_hat, phi)) / Td;
   const double thr = triggerThreshold();
 
   // Noise level from the change of the residual between adjacent windows: a constant mismatch
   // cancels, noise does not (E|delta| = 2 sigma / sqrt(pi)). Each step is clipped at four
   // times the estimate, so a switch barely moves it; paused while verifying.
-  if (k_ % Ld_ == 0 && count_ >= 2 * Ld_ && !verifying_) {
+  if (k_ % Ld_ == 0 && win_.count() >= 2 * Ld_ && !verifying_) {
     Vec phi_p;
     double y_p = 0.0;
-    windowSums(Ld_, Ld_, &phi_p, &y_p);
+    win_.sums(Ld_, Ld_, &phi_p, &y_p);
     const double delta = std::abs(rho_ - (y_p - dotOf(theta_hat, phi_p)) / Td);
     // A running mean over the first blocks, then an exponential one over noise_time.
     const double beta = std::max(1.0 / (noise_blocks_ + 1), std::min(1.0, Td / rc_.noise_time));
@@ -234,8 +172,9 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   // The long window: a small mismatch that stays under the short window's noise-raised
   // threshold for long. Its noise is endpoint noise, Ld_ / Ll_ of the short window's; it sees
   // only data since the last reset (older data is judged against a theta_hat it did not have).
-  if (Ll_ > Ld_ && count_ >= Ll_ && k_ - last_trigger_k_ >= Ll_ && k_ - verify_end_k_ >= Ll_) {
-    rho_long_ = (y_long_ - dotOf(theta_hat, phi_long_)) / (Ll_ * dt_);
+  if (Ll_ > Ld_ && win_.count() >= Ll_ && k_ - last_trigger_k_ >= Ll_ &&
+      k_ - verify_end_k_ >= Ll_) {
+    rho_long_ = (win_.yLong() - dotOf(theta_hat, win_.phiLong())) / (Ll_ * dt_);
     const double thr_long =
         std::max(rc_.threshold, rc_.noise_factor * noiseLevel() * static_cast<double>(Ld_) / Ll_);
     if (std::abs(rho_long_) > thr_long) {
@@ -254,23 +193,23 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   // Where did the mismatch begin? The cumulative residual from the newest sample back grows
   // while the data is post-change and stays flat before: take the shortest span holding 90 %
   // of its largest excursion in the direction of the residual.
-  const int span = long_trigger_
-                       ? static_cast<int>(std::min<std::int64_t>(
-                             {static_cast<std::int64_t>(count_), 2 * Ll_, k_ - verify_end_k_}))
-                       : std::min(count_, std::max(2 * Ld_, 2));
+  const int span =
+      long_trigger_ ? static_cast<int>(std::min<std::int64_t>(
+                          {static_cast<std::int64_t>(win_.count()), 2 * Ll_, k_ - verify_end_k_}))
+                    : std::min(win_.count(), std::max(2 * Ld_, 2));
   const double rho = long_trigger_ ? rho_long_ : rho_;
   const double sgn = rho >= 0.0 ? 1.0 : -1.0;
   double S = 0.0, best = 0.0;
   for (int j = 0; j < span; ++j) {
-    const int i = at(j);
-    S += sgn * (y_[static_cast<size_t>(i)] - theta_hat->dot(phi_[static_cast<size_t>(i)]));
+    const int i = win_.at(j);
+    S += sgn * (win_.y(i) - theta_hat->dot(win_.phi(i)));
     best = std::max(best, S);
   }
   int m = span;
   S = 0.0;
   for (int j = 0; j < span; ++j) {
-    const int i = at(j);
-    S += sgn * (y_[static_cast<size_t>(i)] - theta_hat->dot(phi_[static_cast<size_t>(i)]));
+    const int i = win_.at(j);
+    S += sgn * (win_.y(i) - theta_hat->dot(win_.phi(i)));
     if (S >= 0.9 * best) {
       m = j + 1;
       break;
@@ -279,14 +218,14 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   m = std::max(m, std::min(2, span));
   post_start_k_ = k_ - m + 1;
   // The estimate of the regime just left: theta_hat before the change.
-  theta_keep_ = m < count_ ? th_[static_cast<size_t>(at(m))] : *theta_hat;
+  theta_keep_ = m < win_.count() ? win_.theta(win_.at(m)) : *theta_hat;
 
   // Bank the regime just left when it lasted long enough for the estimate to settle.
-  if (k_ - regime_start_k_ >= Ls_ && count_ > m) {
+  if (k_ - regime_start_k_ >= Ls_ && win_.count() > m) {
     Vec dir;
     double ysum = 0.0;
-    const int len = std::min(Ld_, count_ - m);
-    windowSums(m, len, &dir, &ysum);
+    const int len = std::min(Ld_, win_.count() - m);
+    win_.sums(m, len, &dir, &ysum);
     memory().remember(theta_keep_, dir / (len * dt_), rc_.merge_tolerance);
   }
 
@@ -322,7 +261,7 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
     Gr_.setZero();
     hr_.setZero();
     cr_ = 0.0;
-    const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, count_));
+    const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
     for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
       const int len = std::min(Lc_, j0 + 1);
       addChunk(&Gr_, &hr_, &cr_, j0 - len + 1, len);
@@ -335,7 +274,7 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
 void RobustPreadaptation::addChunk(Mat* G, Vec* h, double* c, int j0, int len) const {
   Vec Phi;
   double Y = 0.0;
-  windowSums(j0, len, &Phi, &Y);
+  win_.sums(j0, len, &Phi, &Y);
   G->noalias() += Phi * Phi.transpose();
   *h += Y * Phi;
   *c += Y * Y;
@@ -366,18 +305,19 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   // window worse than it did, beyond noise. The regime's fit also carries the data since the
   // change and its prior; along the direction the plant shows now, the recent data is the
   // better judge (on a steady state a drift along it builds an error that rac would not have).
-  const int len = static_cast<int>(std::min<std::int64_t>(
-      {static_cast<std::int64_t>(Ll_), k_ - post_start_k_ + 1, static_cast<std::int64_t>(count_)}));
+  const int len = static_cast<int>(
+      std::min<std::int64_t>({static_cast<std::int64_t>(Ll_), k_ - post_start_k_ + 1,
+                              static_cast<std::int64_t>(win_.count())}));
   if (len > 0) {
     Vec phi;
     double y = 0.0;
-    if (len == Ll_ && count_ >= Ll_) {
+    if (len == Ll_ && win_.count() >= Ll_) {
       // The whole long window: its running sums (push()), not a fresh sum of Ll_ samples
       // every chunk (that sum was a sixth of pa_robust's instructions).
-      phi = phi_long_;
-      y = y_long_;
+      phi = win_.phiLong();
+      y = win_.yLong();
     } else {
-      windowSums(0, len, &phi, &y);
+      win_.sums(0, len, &phi, &y);
     }
     const double pp = phi.squaredNorm();
     if (pp > 0.0) {
@@ -395,7 +335,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   const int n = static_cast<int>(B_.size());
   // Post-change data in chunks: G = sum Phi Phi^T, h = sum Phi Y, c = sum Y^2, so that the
   // identification error of any theta is J = c - 2 theta^T h + theta^T G theta.
-  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, count_));
+  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
   Mat G = Mat::Zero(n, n);
   Vec h = Vec::Zero(n);
   double c = 0.0;
@@ -457,7 +397,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   // explains the data is used as remembered.
   Vec phi_tot;
   double y_tot = 0.0;
-  windowSums(0, m, &phi_tot, &y_tot);
+  win_.sums(0, m, &phi_tot, &y_tot);
   if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best) {
     if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
   } else {
@@ -509,8 +449,8 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
   ev->cost = phase_cost_;
   Vec dir;
   double ysum = 0.0;
-  windowSums(0, std::min(Ld_, count_), &dir, &ysum);
-  memory().remember(theta_hat, dir / (std::min(Ld_, count_) * dt_), rc_.merge_tolerance);
+  win_.sums(0, std::min(Ld_, win_.count()), &dir, &ysum);
+  memory().remember(theta_hat, dir / (std::min(Ld_, win_.count()) * dt_), rc_.merge_tolerance);
   if (rc_.use_network && rc_.network_rate > 0.0) {
     // Supervised: move the network's prediction at this onset's input towards the regime's
     // settled estimate (E = |theta_I - theta_hat|^2 / 2, so dE/dtheta_I = theta_I - theta_hat).
@@ -520,6 +460,10 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
     net_->learn(z_onset_, ev->grad, rc_.network_rate);
     ev->learned = true;
   }
+}
+
+std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m) {
+  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.plant, m.net);
 }
 
 }  // namespace preadaptive_mrac

@@ -4,7 +4,7 @@
 /// first sample) theta_hat is set to the true theta, instantly; the MRAC law runs as usual.
 /// Needs the truth (like pa_learn_exact), so it cannot run on a real aircraft.
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/event.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
 
 namespace preadaptive_mrac {
@@ -17,6 +17,7 @@ class OraclePreadaptation : public PreadaptationStrategy {
     return std::make_unique<OraclePreadaptation>(*this);
   }
   bool needsTruth() const override { return true; }
+  bool constrainsEvents() const override { return true; }
   void reset() override {
     have_last_ = false;
     phase_cost_ = 0.0;
@@ -33,5 +34,9 @@ class OraclePreadaptation : public PreadaptationStrategy {
   Vec last_;
   double phase_cost_ = 0.0;
 };
+
+struct ModeContext;
+/// \brief The registry's factory (mode_registry.hpp).
+std::unique_ptr<PreadaptationStrategy> makeOraclePreadaptation(const ModeContext& m);
 
 }  // namespace preadaptive_mrac

@@ -4,18 +4,21 @@
 /// each onset), pa_learn / pa_learn_exact (and learn from each phase, eqs. perf-pap ..
 /// der-E-Vpa, with the approximate or the exact sensitivity).
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/event.hpp"
+#include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
+#include "preadaptive_mrac/core/sensitivity_tracker.hpp"
+#include "preadaptive_mrac/core/solvers.hpp"
 
 namespace preadaptive_mrac {
-
-/// \brief Ball projection of a reset value onto Omega = {|theta| <= radius}.
-void clampToBall(Vec* theta, double radius);
 
 /// \brief rac, pa, pa_learn, pa_learn_exact: detection by the attention function.
 class PaperPreadaptation : public PreadaptationStrategy {
  public:
-  PaperPreadaptation(Mode mode, const ControllerConfig& cfg, const ControllerDesign& design,
+  /// \brief Which of the paper's four modes.
+  enum class Variant { kRac, kPa, kPaLearn, kPaLearnExact };
+  PaperPreadaptation(Variant variant, const ControllerConfig& cfg, const ControllerDesign& design,
                      const Vec& B, const Vec& PB, int out, PreadaptNetwork* net);
   bool needsTruth() const override { return exact_; }
   std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {

@@ -61,6 +61,9 @@ class ParamValue {
   static const char* typeName(Type t);
 
  private:
+  /// \brief A node of `type` holding v in `member` (the make* functions).
+  template <class T>
+  static ParamValue make(Type type, T ParamValue::*member, T v);
   Type type_ = Type::kNull;
   bool b_ = false;
   std::int64_t i_ = 0;

@@ -12,7 +12,11 @@
 
 #include <vector>
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/event.hpp"
+#include "preadaptive_mrac/core/identification_window.hpp"
+#include "preadaptive_mrac/core/network.hpp"
+#include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
 #include "preadaptive_mrac/core/regime_memory.hpp"
 
@@ -26,6 +30,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
     c->net_ = net;
     return c;
   }
+  bool constrainsEvents() const override { return true; }
   void reset() override;
   Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
   void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;
@@ -47,12 +52,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
 
  private:
   struct Scores;
-  void push(const Vec& phi, double y, const Vec& theta_hat);
-  /// Ring index of the sample j samples ago (0 = newest).
-  int at(int j) const;
   /// \brief For n = 3: phi = dt x_mid and the input-equivalent residual d of the last step.
   void residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi, Vec* d) const;
-  void windowSums(int j0, int len, Vec* phi, double* y) const;
   void decide(Vec* theta_hat, Event* ev);
   /// Add the chunk of the last Lc samples to the regime's statistics.
   void addChunk(Mat* G, Vec* h, double* c, int j0, int len) const;
@@ -70,15 +71,9 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double bb_;
   PreadaptNetwork* net_;
   int Ld_, Lc_, Lv_, Lq_, Ls_, Ll_, cap_;
-  // Running sums over the long window (the newest Ll_ samples), refreshed now and then.
-  Vec phi_long_;
-  double y_long_ = 0.0, rho_long_ = 0.0;
-  int since_refresh_ = 0;
+  IdentificationWindow win_;  // the data: ring and long-window sums
+  double rho_long_ = 0.0;
   bool long_trigger_ = false;
-  // Ring buffer of identification data.
-  std::vector<Vec> phi_, th_;
-  std::vector<double> y_;
-  int head_ = -1, count_ = 0;
   std::int64_t k_ = 0;
   bool have_prev_ = false;
   Vec x_prev_;
@@ -105,5 +100,9 @@ class RobustPreadaptation : public PreadaptationStrategy {
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };
+
+struct ModeContext;
+/// \brief The registry's factory (mode_registry.hpp).
+std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m);
 
 }  // namespace preadaptive_mrac
