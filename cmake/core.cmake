@@ -24,6 +24,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/scenario.cpp
   src/core/network.cpp
   src/core/controller.cpp
+  src/core/l1_law.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp
   src/core/robust_preadaptation.cpp
