@@ -27,6 +27,8 @@ const char* modeName(Mode m) {
       return "pa_robust";
     case Mode::kOracle:
       return "oracle";
+    case Mode::kL1:
+      return "l1";
   }
   return "?";
 }
@@ -38,6 +40,7 @@ std::optional<Mode> parseMode(const std::string& s) {
   if (s == "pa_learn_exact") return Mode::kPaLearnExact;
   if (s == "pa_robust") return Mode::kPaRobust;
   if (s == "oracle") return Mode::kOracle;
+  if (s == "l1") return Mode::kL1;
   return std::nullopt;
 }
 
@@ -153,8 +156,8 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
       c.mode = *m;
     } else if (!mode.empty() || r.has(p + ".mode")) {
       r.fail(p + ".mode",
-             "expected one of rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle, got '" + mode +
-                 "'");
+             "expected one of rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle, l1, got '" +
+                 mode + "'");
     }
   }
   c.sample_time = r.getDouble(p + ".sample_time");
@@ -184,6 +187,7 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
     r.noteDefault(p + ".projection", "absent (no projection)");
   }
   c.robust = RobustConfig::read(r, p + ".robust");
+  c.l1 = L1Config::read(r, p + ".l1");
   c.validate(r, n, p);
   return c;
 }
@@ -223,6 +227,7 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
              "lies outside Omega (norm " + formatNumber(theta_hat0.norm()) + " > theta_max)");
   }
   if (r.has(p + ".robust")) robust.validate(r, p + ".robust");
+  if (r.has(p + ".l1")) l1.validate(r, p + ".l1", sample_time);
   if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
     if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
       r.fail(p + ".lqr.Q", "must be symmetric");
@@ -418,6 +423,11 @@ Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg,
     case Mode::kOracle:
       strategy_ = std::make_unique<OraclePreadaptation>(cfg.sample_time);
       break;
+    case Mode::kL1:  // attention evaluated and reported as in rac, theta_hat never reset
+      strategy_ =
+          std::make_unique<PaperPreadaptation>(Mode::kRac, cfg, design_, B_, PB_, out_, &net_);
+      l1_ = L1Law(design_, B_, b_ref_, cfg.k0, cfg.l1, dt_, cfg.theta_hat0, plant.x0);
+      break;
     default:
       strategy_ =
           std::make_unique<PaperPreadaptation>(cfg.mode, cfg, design_, B_, PB_, out_, &net_);
@@ -455,6 +465,7 @@ Controller& Controller::operator=(const Controller& o) {
   attention_ = o.attention_;
   net_ = o.net_;
   strategy_ = o.strategy_->clone(&net_);
+  l1_ = o.l1_;
   pending_ = o.pending_;
   return *this;
 }
@@ -465,6 +476,10 @@ void Controller::reset() {
   vel_.reset();
   attention_.reset();
   strategy_->reset();
+  if (cfg_.mode == Mode::kL1) {
+    l1_.reset();
+    theta_hat_ = l1_.thetaHat();
+  }
   u_prev_ = 0.0;
   u_cmd_prev_ = 0.0;
   r_prev_ = 0.0;
@@ -623,7 +638,8 @@ StepOutput Controller::step(const StepInput& in) {
   }
 
   out.u_baseline = -dotOf(K_, x);
-  out.u_adaptive = -dotOf(theta_hat_, x) + cfg_.k0 * in.r;
+  const bool l1 = cfg_.mode == Mode::kL1;
+  out.u_adaptive = l1 ? l1_.command(x, in.r) : -dotOf(theta_hat_, x) + cfg_.k0 * in.r;
   out.u_unsaturated = out.u_baseline + out.u_adaptive;
   // The command the actuator can follow; the plant applies the same limits.
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);
@@ -634,9 +650,12 @@ StepOutput Controller::step(const StepInput& in) {
   copyTo(theta_hat_, &out.theta_hat);
 
   if (attention_.phaseActive()) strategy_->duringPhase(smp, out.u, theta_hat_);
-  // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x; frozen while the
-  // elevator is limited (the plant does not get the u the law assumes), projected onto Omega.
-  if (!(out.saturated && cfg_.freeze_when_saturated)) {
+  if (l1) {  // the L1 law adapts from its predictor; the plant got u - u_bl of the command
+    l1_.advance(x, in.r, out.u - out.u_baseline, !(out.saturated && cfg_.freeze_when_saturated));
+    copyTo(l1_.thetaHat(), &theta_hat_);
+  } else if (!(out.saturated && cfg_.freeze_when_saturated)) {
+    // Adaptation law (eq. adaptivecontrol), forward Euler with the sampled x; frozen while the
+    // elevator is limited (the plant does not get the u the law assumes), projected onto Omega.
     scaledTo(cfg_.gamma * dotOf(ev_, PB_), x, &upd_);
     if (cfg_.projection) {
       project(theta_hat_, &upd_);

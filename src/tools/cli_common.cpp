@@ -114,7 +114,7 @@ PreparedRun prepare(const RunRequest& req) {
   if (req.mode) {
     if (!parseMode(*req.mode))
       throw UsageError("--mode: unknown mode '" + *req.mode +
-                       "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust or oracle)");
+                       "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle or l1)");
     tree.setPath("controller.mode", ParamValue::makeString(*req.mode));
   }
   if (req.seed)

@@ -43,8 +43,8 @@ int main(int argc, char** argv) {
     cli::RunRequest base;
     std::optional<std::uint64_t> seed;
     int count = 30;
-    std::vector<std::string> modes = {"rac",       "pa",    "pa_learn", "pa_learn_exact",
-                                      "pa_robust", "oracle"};
+    std::vector<std::string> modes = {"rac",       "pa",     "pa_learn", "pa_learn_exact",
+                                      "pa_robust", "oracle", "l1"};
     double noise = 0.0;
     FamilySpec spec;
     std::string out_dir;
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     cli::addText(app, "--count", &count_t, "scenarios (default 30)");
     cli::addText(app, "--modes", &modes_t,
                  "modes to compare with rac (default rac,pa,pa_learn,pa_learn_exact,pa_robust,"
-                 "oracle)");
+                 "oracle,l1)");
     cli::addText(app, "--noise", &noise_t, "measurement noise std on alpha and q (default 0)");
     cli::addText(app, "--regimes", &regimes_t, "distinct regimes (default 3)");
     cli::addText(app, "--segments", &segments_t, "segments after the first (default 10)");

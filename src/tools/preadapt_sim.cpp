@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
     cli::RunOptionText text;
     std::string mode, seed;
     cli::addRunOptions(app, &req, &text, true);
-    cli::addText(app, "--mode", &mode, "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle");
+    cli::addText(app, "--mode", &mode,
+                 "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle | l1");
     cli::addText(app, "--seed", &seed, "seed of the network's initial weights");
     cli::addText(app, "--csv", &csv, "write the time series to this CSV file");
     app.add_flag("--json", json, "print one JSON summary line (the last line)");

@@ -178,8 +178,8 @@ int main(int argc, char** argv) {
       for (const auto& m : cli::splitTopLevel(modes_text)) {
         if (!parseMode(m))
           throw cli::UsageError("--modes: unknown mode '" + m +
-                                "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust or "
-                                "oracle)");
+                                "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust, "
+                                "oracle or l1)");
         modes.push_back(m);
       }
     if (!seeds_text.empty()) seeds = parseSeeds(seeds_text);

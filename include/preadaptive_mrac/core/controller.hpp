@@ -9,6 +9,7 @@
 #include <string>
 
 #include "preadaptive_mrac/core/input_guard.hpp"
+#include "preadaptive_mrac/core/l1_law.hpp"
 #include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
@@ -27,9 +28,10 @@ enum class Mode {
   kPaLearnExact,  ///< preadaptation, learning with the exact gradient (needs true theta)
   kPaRobust,      ///< robust preadaptation: residual trigger, regime memory, verification
   kOracle,        ///< yardstick: theta_hat := true theta at each switch (needs true theta)
+  kL1,            ///< L1 adaptive control (docs/l1.md) in place of the MRAC law; never resets
 };
 const char* modeName(Mode m);
-/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact" | "pa_robust" | "oracle".
+/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact" | "pa_robust" | "oracle" | "l1".
 std::optional<Mode> parseMode(const std::string& s);
 
 /// \brief Parameters of pa_robust (key `controller.robust`; docs/robust.md).
@@ -80,6 +82,7 @@ struct ControllerConfig {
   double theta_max = 0.0;           ///< radius of Omega
   double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
   RobustConfig robust;              ///< pa_robust (optional section; defaults documented)
+  L1Config l1;                      ///< mode l1 (optional section `controller.l1`; docs/l1.md)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   static ControllerConfig read(ParamReader& r, int n, const std::string& prefix = "controller");
@@ -325,6 +328,7 @@ class Controller {
   Attention attention_;
   PreadaptNetwork net_;
   std::unique_ptr<PreadaptationStrategy> strategy_;
+  L1Law l1_;  // mode l1: the adaptive term and theta_hat come from the L1 law
   std::optional<ControllerTunables> pending_;  // queued by setTunables, applied by step()
   void applyTunables(const ControllerTunables& t);
 };
