@@ -21,6 +21,9 @@ pmrac_library(preadaptive_mrac_core
   src/core/params.cpp
   src/core/solvers.cpp
   src/core/plant.cpp
+  src/core/actuator.cpp
+  src/core/turbulence.cpp
+  src/core/scenario_plant.cpp
   src/core/scenario.cpp
   src/core/network.cpp
   src/core/controller.cpp

@@ -1,6 +1,7 @@
 #include "preadaptive_mrac/core/closed_loop.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "preadaptive_mrac/core/small_ops.hpp"
@@ -52,51 +53,6 @@ void MetricsAccumulator::addEvent(const Event& ev) {
   }
 }
 
-ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario, double dt)
-    : plant_(plant),
-      scenario_(scenario),
-      dt_(dt),
-      limits_(plant.actuator),
-      noise_cfg_(plant.noise),
-      noisy_(plant.noise.active()),
-      noise_(plant.noise.seed) {
-  if (!(dt > 0.0)) throw std::invalid_argument("dt must be > 0");
-  // Samples t_k = k dt with t_k < t_end (a tolerance guards against round-off in t_end / dt).
-  steps_ = static_cast<std::int64_t>(std::ceil(scenario_.endTime() / dt_ - 1e-9));
-  reset();
-}
-
-void ScenarioPlant::reset() {
-  plant_.reset();
-  k_ = 0;
-  u_applied_ = 0.0;
-  theta_idx_ = r_idx_ = 0;
-  noise_.reseed(noise_cfg_.seed);
-  sampleInputs();
-}
-
-void ScenarioPlant::sampleInputs() {
-  const double t = time();
-  // Scenario::rAt(t) and thetaAt(t + dt/2), searched on from the last sample's segments (t
-  // only grows between resets); theta is copied when its segment changes.
-  r_idx_ = scenario_.rIndexFrom(t, r_idx_);
-  r_ = scenario_.reference[r_idx_].r;
-  const size_t ti = scenario_.thetaIndexFrom(t + 0.5 * dt_, theta_idx_);
-  if (k_ == 0 || ti != theta_idx_) theta_ = scenario_.theta[ti].theta;
-  theta_idx_ = ti;
-  copyTo(plant_.state(), &measured_);
-  if (noisy_)
-    for (Eigen::Index i = 0; i < measured_.size(); ++i)
-      measured_[i] += noise_cfg_.std[i] * noise_.next();
-}
-
-void ScenarioPlant::advance(double u) {
-  u_applied_ = limits_.apply(u, u_applied_, dt_);
-  plant_.step(dt_, theta_, u_applied_, r_);
-  ++k_;
-  sampleInputs();
-}
-
 ClosedLoop::ClosedLoop(const PlantConfig& plant, const Scenario& scenario, Controller* controller)
     : plant_cfg_(plant), scenario_(scenario), ctl_(controller) {}
 
@@ -118,8 +74,12 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
     s.phase.reserve(static_cast<size_t>(steps));
     s.saturated.reserve(static_cast<size_t>(steps));
   }
+  // The conditions' columns: what the plant did over each sample, recorded after advance().
+  const bool conditions = opt.record_series && sim.hasConditions();
+  const bool stopping = opt.stop_above < std::numeric_limits<double>::infinity();
   while (!sim.done()) {
     const double t = sim.time();
+    const double lambda = sim.effectiveness(), gust = sim.gust();
     StepInput in;
     in.t = t;
     in.x = &sim.measured();  // unchanged until sim.advance()
@@ -149,9 +109,21 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       s.phase.push_back(ctl_->phaseActive() ? 1 : 0);
       s.saturated.push_back(o.saturated ? 1 : 0);
     }
+    if (stopping && !(std::abs(o.e) <= opt.stop_above && std::isfinite(o.u))) {
+      res.stopped = true;
+      break;
+    }
     sim.advance(o.u);
+    if (conditions) {
+      auto& s = res.series;
+      s.u_applied.push_back(sim.lastApplied());
+      s.effectiveness.push_back(lambda);
+      s.w_gust.push_back(gust);
+      s.plant_limited.push_back(sim.lastLimited() ? 1 : 0);
+    }
   }
-  res.steps = steps;
+  res.steps = sim.step();
+  res.plant_limited_steps = sim.limitedSteps();
   res.metrics = acc.metrics();
   return res;
 }

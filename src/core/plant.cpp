@@ -8,6 +8,17 @@
 
 namespace preadaptive_mrac {
 
+namespace {
+// An optional duration [s] that must be a finite number >= 0; 0 when absent.
+double readNonNegative(ParamReader& r, const std::string& key) {
+  if (!r.has(key)) return 0.0;
+  const double v = r.getDouble(key);
+  if (r.usable(key) && !(v >= 0.0 && std::isfinite(v)))
+    r.fail(key, "must be a finite number >= 0 [s], got " + formatNumber(v));
+  return v;
+}
+}  // namespace
+
 PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   PlantConfig c;
   c.A = r.getMatrix(prefix + ".A");
@@ -22,12 +33,23 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   c.output_index = static_cast<int>(r.getInt(prefix + ".output_index"));
   if (r.has(prefix + ".actuator")) {
     const std::string a = prefix + ".actuator";
-    c.actuator.enabled = r.getBool(a + ".enabled");
-    c.actuator.max_deflection = r.getDouble(a + ".max_deflection");
-    c.actuator.max_rate = r.getDouble(a + ".max_rate");
-    for (const char* k : {".max_deflection", ".max_rate"})
-      if (r.usable(a + k) && !(r.getDouble(a + k) > 0.0))
-        r.fail(a + k, "must be > 0, got " + formatNumber(r.getDouble(a + k)));
+    // Delay and lag alone need no limits: the limit keys are required once any of them (or
+    // neither delay nor lag) is given, as before.
+    const bool dynamics_only = (r.has(a + ".delay") || r.has(a + ".time_constant")) &&
+                               !r.has(a + ".enabled") && !r.has(a + ".max_deflection") &&
+                               !r.has(a + ".max_rate");
+    if (!dynamics_only) {
+      c.actuator.enabled = r.getBool(a + ".enabled");
+      c.actuator.max_deflection = r.getDouble(a + ".max_deflection");
+      c.actuator.max_rate = r.getDouble(a + ".max_rate");
+      for (const char* k : {".max_deflection", ".max_rate"})
+        if (r.usable(a + k) && !(r.getDouble(a + k) > 0.0))
+          r.fail(a + k, "must be > 0, got " + formatNumber(r.getDouble(a + k)));
+    }
+    // Absent = 0 without a note in the defaults list: a run without the new keys must report
+    // exactly what it reported before them.
+    c.dynamics.delay = readNonNegative(r, a + ".delay");
+    c.dynamics.time_constant = readNonNegative(r, a + ".time_constant");
   } else {
     r.noteDefault(prefix + ".actuator", "absent (no elevator limits)");
   }
@@ -43,7 +65,33 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   } else {
     r.noteDefault(prefix + ".noise", "absent (no measurement noise)");
   }
-  // The operating point documents where A and B come from; nothing reads it.
+  if (r.has(prefix + ".turbulence")) {
+    const std::string t = prefix + ".turbulence";
+    c.turbulence.enabled = r.getBool(t + ".enabled");
+    c.turbulence.sigma_w = r.getDouble(t + ".sigma_w");
+    if (r.usable(t + ".sigma_w") &&
+        !(c.turbulence.sigma_w >= 0.0 && std::isfinite(c.turbulence.sigma_w)))
+      r.fail(t + ".sigma_w",
+             "must be a finite number >= 0 [m/s], got " + formatNumber(c.turbulence.sigma_w));
+    c.turbulence.length_scale = r.getDouble(t + ".length_scale");
+    if (r.usable(t + ".length_scale") &&
+        !(c.turbulence.length_scale > 0.0 && std::isfinite(c.turbulence.length_scale)))
+      r.fail(t + ".length_scale",
+             "must be a finite number > 0 [m], got " + formatNumber(c.turbulence.length_scale));
+    const std::int64_t seed = r.getInt(t + ".seed");
+    if (seed < 0) r.fail(t + ".seed", "must be >= 0");
+    c.turbulence.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+  }
+  // The operating point documents where A and B come from; its airspeed U is the V of the
+  // turbulence filter (required when turbulence is on).
+  const std::string uk = prefix + ".operating_point.U";
+  if (r.has(uk)) {
+    c.airspeed = r.getDouble(uk);
+    if (r.usable(uk) && !(c.airspeed > 0.0 && std::isfinite(c.airspeed)))
+      r.fail(uk, "must be a finite number > 0 [m/s], got " + formatNumber(c.airspeed));
+  } else if (c.turbulence.enabled) {
+    r.fail(uk, "required when plant.turbulence.enabled is true (the gust filter's airspeed V)");
+  }
   r.markUsed(prefix + ".operating_point");
   r.markUsed(prefix + ".description");
   c.validate(r, prefix);
@@ -113,6 +161,21 @@ void Plant::step(double dt, const Vec& theta, double u, double r) {
     step3(dt, theta, u, r);
   else
     stepGeneric(dt, theta, u, r);
+}
+
+void Plant::stepDisturbed(double dt, const Vec& theta, double u, double r, const Vec& d) {
+  derivative(x_, theta, u, r, &k1_);
+  k1_ += d;
+  tmp_ = x_ + 0.5 * dt * k1_;
+  derivative(tmp_, theta, u, r, &k2_);
+  k2_ += d;
+  tmp_ = x_ + 0.5 * dt * k2_;
+  derivative(tmp_, theta, u, r, &k3_);
+  k3_ += d;
+  tmp_ = x_ + dt * k3_;
+  derivative(tmp_, theta, u, r, &k4_);
+  k4_ += d;
+  x_ += (dt / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_);
 }
 
 void Plant::stepGeneric(double dt, const Vec& theta, double u, double r) {

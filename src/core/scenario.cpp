@@ -22,6 +22,14 @@ size_t Scenario::thetaIndexFrom(double t, size_t from) const { return segmentFro
 
 size_t Scenario::rIndexFrom(double t, size_t from) const { return segmentFrom(reference, t, from); }
 
+size_t Scenario::effectivenessIndexFrom(double t, size_t from) const {
+  return segmentFrom(effectiveness, t, from);
+}
+
+double Scenario::effectivenessAt(double t) const {
+  return effectiveness.empty() ? 1.0 : effectiveness[effectivenessIndexFrom(t, 0)].value;
+}
+
 const Eigen::VectorXd& Scenario::thetaAt(double t) const {
   return theta[thetaIndexFrom(t, 0)].theta;
 }
@@ -96,6 +104,23 @@ Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
       r.fail(rk, "the last reference segment must reach the scenario end " +
                      formatNumber(sc.endTime()) + " s, it ends at " +
                      formatNumber(sc.reference.back().until) + " s");
+  }
+  // Absent: Lambda = 1 throughout, with no note in the defaults list (a run without the key
+  // reports exactly what it reported before the key existed).
+  const std::string ek = prefix + ".effectiveness";
+  if (r.has(ek)) {
+    sc.effectiveness = readSegments<EffectivenessSegment>(
+        r, ek, [&](const std::string& seg, EffectivenessSegment* s) {
+          s->value = r.getDouble(seg + ".value");
+          if (r.usable(seg + ".value") && !(s->value > 0.0 && s->value <= 2.0))
+            r.fail(seg + ".value",
+                   "elevator effectiveness must be in (0, 2], got " + formatNumber(s->value));
+        });
+    if (!sc.effectiveness.empty() && !sc.theta.empty() &&
+        sc.effectiveness.back().until < sc.endTime())
+      r.fail(ek, "the last effectiveness segment must reach the scenario end " +
+                     formatNumber(sc.endTime()) + " s, it ends at " +
+                     formatNumber(sc.effectiveness.back().until) + " s");
   }
   return sc;
 }

@@ -178,6 +178,11 @@ std::string scenarioToYaml(const Scenario& sc) {
   os << "  reference:\n";
   for (const auto& seg : sc.reference)
     os << "    - {until: " << num(seg.until) << ", r: " << num(seg.r) << "}\n";
+  if (!sc.effectiveness.empty()) {
+    os << "  effectiveness:\n";
+    for (const auto& seg : sc.effectiveness)
+      os << "    - {until: " << num(seg.until) << ", value: " << num(seg.value) << "}\n";
+  }
   return os.str();
 }
 
@@ -195,7 +200,12 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   header += ",e,e_dot_est,u";
   for (int i = 0; i < n; ++i) header += ",theta_hat" + std::to_string(i);
   for (int i = 0; i < n; ++i) header += ",theta_true" + std::to_string(i);
-  header += ",phase,u_baseline,u_adaptive,r,saturated\n";
+  header += ",phase,u_baseline,u_adaptive,r,saturated";
+  // Columns of the plant's conditions only when a run has them (Series::conditions): a run of
+  // the ideal plant writes the same bytes as before they existed.
+  const bool cond = !s.u_applied.empty();
+  if (cond) header += ",u_applied,effectiveness,w_gust,plant_limited";
+  header += '\n';
   std::fputs(header.c_str(), f.get());
   std::string line;
   char buf[64];
@@ -232,6 +242,14 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
     }
     line += ',';
     integer(s.saturated[k]);
+    if (cond) {
+      for (double v : {s.u_applied[k], s.effectiveness[k], s.w_gust[k]}) {
+        line += ',';
+        num(v);
+      }
+      line += ',';
+      integer(s.plant_limited[k]);
+    }
     line += '\n';
     std::fwrite(line.data(), 1, line.size(), f.get());
   }

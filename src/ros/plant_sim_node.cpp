@@ -300,7 +300,9 @@ void PlantSimNode::advance(double u) {
   sim_.advance(u);
   // After the actuator limits of plant.actuator (u itself when they are off).
   applied_u_ = sim_.lastApplied();
-  if (applied_u_ != u) ++saturated_steps_;
+  // What the limits did, not applied != commanded: with a servo delay or lag the deflection
+  // differs from the command in nearly every step without any limit being reached.
+  if (sim_.lastLimited()) ++saturated_steps_;
   const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.
   theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);

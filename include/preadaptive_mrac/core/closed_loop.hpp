@@ -2,12 +2,14 @@
 /// \file closed_loop.hpp
 /// \brief Plant + controller composed for batch runs, and the metrics of SPEC.md.
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "preadaptive_mrac/core/controller.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/scenario.hpp"
+#include "preadaptive_mrac/core/scenario_plant.hpp"
 
 namespace preadaptive_mrac {
 
@@ -52,57 +54,20 @@ struct Series {
   std::vector<double> t, e, e_dot, u, u_bl, u_ad, r;
   std::vector<Vec> x, x_r, theta_hat, theta_true;  ///< x: true state
   std::vector<int> phase, saturated;
-};
-
-/// \brief A plant driven by a scenario, one sample at a time: what the batch loop and the ROS
-/// plant node both step, so that the two agree to the last bit.
-///
-/// Sample k is at t_k = k dt. Before advance(): state() is x_k, reference() is r(t_k) and
-/// theta() is theta(t_k + dt/2), the value held over [t_k, t_k + dt]. advance(u) integrates
-/// one RK4 step with u, r, theta held and moves to k + 1. done() once t_k >= t_end.
-class ScenarioPlant {
- public:
-  ScenarioPlant(const PlantConfig& plant, const Scenario& scenario, double dt);
-  void reset();
-  std::int64_t step() const { return k_; }
-  std::int64_t totalSteps() const { return steps_; }
-  double time() const { return static_cast<double>(k_) * dt_; }
-  double dt() const { return dt_; }
-  bool done() const { return k_ >= steps_; }
-  /// \brief True state x_k.
-  const Vec& state() const { return plant_.state(); }
-  /// \brief What a sensor reports at t_k: x_k plus the configured noise (x_k when none).
-  const Vec& measured() const { return measured_; }
-  double reference() const { return r_; }
-  const Vec& theta() const { return theta_; }
-  /// \brief Integrate [t_k, t_k + dt] with elevator u [rad] held, after the actuator limits.
-  void advance(double u);
-  /// \brief Elevator actually applied over the last step [rad].
-  double lastApplied() const { return u_applied_; }
-  const Plant& plant() const { return plant_; }
-  const Scenario& scenario() const { return scenario_; }
-
- private:
-  void sampleInputs();
-  Plant plant_;
-  Scenario scenario_;
-  double dt_;
-  std::int64_t k_ = 0, steps_ = 0;
-  double r_ = 0.0;
-  Vec theta_;
-  ActuatorLimits limits_;
-  MeasurementNoise noise_cfg_;
-  bool noisy_ = false;  // noise_cfg_.active(), once
-  GaussianSource noise_;
-  Vec measured_;
-  double u_applied_ = 0.0;
-  size_t theta_idx_ = 0, r_idx_ = 0;  // segments of the current sample (time only moves on)
+  /// The plant's conditions, recorded only when it has some (ScenarioPlant::hasConditions):
+  /// elevator applied [rad] (after delay, lag, limits), Lambda, gust w_g [m/s], and whether
+  /// the plant's limits changed the signal. Empty for the paper's ideal plant.
+  std::vector<double> u_applied, effectiveness, w_gust;
+  std::vector<int> plant_limited;
 };
 
 /// \brief Options of a batch run.
 struct SimOptions {
   double dt = 0.001;  ///< sample time = integration step [s]
   bool record_series = false;
+  /// Stop the run at the first sample with |e| above this [rad] or anything not finite (a
+  /// margin search needs only to know that the bound was broken); infinity: never.
+  double stop_above = std::numeric_limits<double>::infinity();
 };
 
 /// \brief Result of a batch run.
@@ -110,7 +75,9 @@ struct SimResult {
   std::vector<Event> events;
   RunMetrics metrics;
   Series series;
-  std::int64_t steps = 0;
+  std::int64_t steps = 0;                ///< samples run (fewer than the scenario's when stopped)
+  bool stopped = false;                  ///< stopped early by SimOptions::stop_above
+  std::int64_t plant_limited_steps = 0;  ///< steps the plant's limits changed the signal
 };
 
 /// \brief The closed loop of a plant, a scenario and a controller.

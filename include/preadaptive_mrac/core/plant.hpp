@@ -23,6 +23,22 @@ struct ActuatorLimits {
   double apply(double u, double u_prev, double dt) const;
 };
 
+/// \brief Delay and lag of the elevator servo (keys plant.actuator.delay and
+/// plant.actuator.time_constant; 0 when absent, the paper's instant elevator).
+struct ActuatorDynamics {
+  double delay = 0.0;          ///< transport delay [s], rounded to whole samples
+  double time_constant = 0.0;  ///< first-order lag T [s]; 0 = none
+};
+
+/// \brief Key plant.turbulence (optional; off when absent).
+struct TurbulenceConfig {
+  bool enabled = false;
+  double sigma_w = 0.0;       ///< standard deviation of the vertical gust w_g [m/s], >= 0
+  double length_scale = 0.0;  ///< Dryden scale length L_w [m], > 0
+  std::uint64_t seed = 0;     ///< seed of the gust's own noise stream
+  bool active() const { return enabled && sigma_w > 0.0; }
+};
+
 /// \brief Gaussian noise added to the measured state (key plant.noise; optional, off when absent).
 struct MeasurementNoise {
   Eigen::VectorXd std;     ///< standard deviation per state (n) [units of x]
@@ -48,13 +64,16 @@ class GaussianSource {
 };
 
 struct PlantConfig {
-  Eigen::MatrixXd A;        ///< state matrix (n x n)
-  Eigen::VectorXd B;        ///< input vector (n)
-  Eigen::VectorXd B1r;      ///< reference input vector (n)
-  Eigen::VectorXd x0;       ///< initial state (n) [e_I rad s, alpha rad, q rad/s]
-  int output_index = 1;     ///< y = x[output_index] (alpha)
-  ActuatorLimits actuator;  ///< applied by the plant, known to the controller
-  MeasurementNoise noise;   ///< added to what the plant publishes as measured
+  Eigen::MatrixXd A;            ///< state matrix (n x n)
+  Eigen::VectorXd B;            ///< input vector (n)
+  Eigen::VectorXd B1r;          ///< reference input vector (n)
+  Eigen::VectorXd x0;           ///< initial state (n) [e_I rad s, alpha rad, q rad/s]
+  int output_index = 1;         ///< y = x[output_index] (alpha)
+  ActuatorLimits actuator;      ///< applied by the plant, known to the controller
+  MeasurementNoise noise;       ///< added to what the plant publishes as measured
+  ActuatorDynamics dynamics;    ///< servo delay and lag (the controller is not told)
+  TurbulenceConfig turbulence;  ///< Dryden vertical gust (the controller is not told)
+  double airspeed = 0.0;  ///< plant.operating_point.U [m/s]; 0 when absent (needed by turbulence)
 
   int n() const { return static_cast<int>(A.rows()); }
   /// \brief Read the `plant` section; problems go to the reader.
@@ -72,6 +91,9 @@ class Plant {
   /// step. For n = 3 (the B-747 plant) an unrolled path with the same operations in the same
   /// order, so the same bits (test_plant checks it against the generic path).
   void step(double dt, const Vec& theta, double u, double r);
+  /// \brief step() with a disturbance d (n) [units of x_dot] added to x_dot, held over the step
+  /// (the generic path for any n: a disturbed run has no bits of the paper's to keep).
+  void stepDisturbed(double dt, const Vec& theta, double u, double r, const Vec& d);
   /// \brief Time derivative at (x, theta, u, r).
   void derivative(const Vec& x, const Vec& theta, double u, double r, Vec* xdot) const;
 

@@ -24,10 +24,17 @@ struct Scenario {
     double until;
     double r;
   };
+  /// \brief Elevator effectiveness Lambda over (previous until, until] (in (0, 2]).
+  struct EffectivenessSegment {
+    double until;
+    double value;
+  };
   std::string name;
   std::string description;
   std::vector<ThetaSegment> theta;
   std::vector<RefSegment> reference;
+  /// Elevator effectiveness schedule (key `effectiveness`); empty = Lambda 1 throughout.
+  std::vector<EffectivenessSegment> effectiveness;
 
   /// \brief End time [s] (the last theta segment's until).
   double endTime() const;
@@ -42,12 +49,17 @@ struct Scenario {
   size_t thetaIndexFrom(double t, size_t from) const;
   /// \brief The same for the reference segments (rAt).
   size_t rIndexFrom(double t, size_t from) const;
+  /// \brief The same for the effectiveness segments (callers check it is not empty).
+  size_t effectivenessIndexFrom(double t, size_t from) const;
+  /// \brief Elevator effectiveness Lambda at time t [s] (1 without a schedule).
+  double effectivenessAt(double t) const;
   /// \brief Times where theta changes (every until but the last).
   std::vector<double> switchTimes() const;
 
   /// \brief Read the `scenario` section for a plant of n states.
   /// Segments: {until: s, scale: c} (theta = c * ones) or {until: s, theta: [..]};
-  /// reference: {until: s, r: value}; a missing `reference` means r = 0.1 rad throughout.
+  /// reference: {until: s, r: value}; a missing `reference` means r = 0.1 rad throughout;
+  /// effectiveness (optional): {until: s, value: Lambda}, Lambda in (0, 2], reaching the end.
   static Scenario read(ParamReader& r, int n, const std::string& prefix = "scenario");
 };
 
