@@ -33,6 +33,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/robust_preadaptation.cpp
   src/core/regime_memory.cpp
   src/core/closed_loop.cpp
+  src/core/margins.cpp
   src/core/scenario_family.cpp
   src/core/input_guard.cpp
   src/core/tunables.cpp)
@@ -73,10 +74,12 @@ add_executable(preadapt_sweep src/tools/preadapt_sweep.cpp)
 target_link_libraries(preadapt_sweep preadaptive_mrac_cli_static)
 add_executable(preadapt_family src/tools/preadapt_family.cpp)
 target_link_libraries(preadapt_family preadaptive_mrac_cli_static)
-set_target_properties(preadapt_sim preadapt_sweep preadapt_family PROPERTIES
+add_executable(preadapt_margins src/tools/preadapt_margins.cpp)
+target_link_libraries(preadapt_margins preadaptive_mrac_cli_static)
+set_target_properties(preadapt_sim preadapt_sweep preadapt_family preadapt_margins PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 if(PMRAC_TOOLS_FULLY_STATIC)
-  foreach(t preadapt_sim preadapt_sweep preadapt_family)
+  foreach(t preadapt_sim preadapt_sweep preadapt_family preadapt_margins)
     target_link_options(${t} PRIVATE -static)
   endforeach()
 endif()
@@ -84,7 +87,7 @@ endif()
 install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS preadapt_sim preadapt_sweep preadapt_family RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS preadapt_sim preadapt_sweep preadapt_family preadapt_margins RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 install(DIRECTORY config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
   OPTIONAL)

@@ -149,13 +149,18 @@ PreparedRun prepare(const RunRequest& req) {
   return run;
 }
 
-SimResult execute(const PreparedRun& run, bool record_series,
-                  std::unique_ptr<Controller>* controller) {
+std::unique_ptr<Controller> makeController(const PreparedRun& run) {
   // K and P were solved when the configuration was validated: not again.
   auto ctl = run.cfg.design
                  ? std::make_unique<Controller>(run.cfg.plant, run.cfg.controller, *run.cfg.design)
                  : std::make_unique<Controller>(run.cfg.plant, run.cfg.controller);
   if (run.weights) ctl->setNetwork(*run.weights);
+  return ctl;
+}
+
+SimResult execute(const PreparedRun& run, bool record_series,
+                  std::unique_ptr<Controller>* controller) {
+  auto ctl = makeController(run);
   ClosedLoop loop(run.cfg.plant, run.cfg.scenario, ctl.get());
   SimOptions opt;
   opt.dt = run.cfg.controller.sample_time;

@@ -43,6 +43,8 @@ struct PreparedRun {
 
 /// \brief Load files, apply --set and flags, validate everything. Throws UsageError.
 PreparedRun prepare(const RunRequest& req);
+/// \brief The controller of a prepared run (its weights loaded), before any step.
+std::unique_ptr<Controller> makeController(const PreparedRun& run);
 /// \brief Run the closed loop; `controller` receives the controller (for its final network).
 SimResult execute(const PreparedRun& run, bool record_series,
                   std::unique_ptr<Controller>* controller);
