@@ -27,7 +27,9 @@ const char* kAbout =
     "repeated-switch windows, the fraction better than rac (peak |e| ratio < 1), the fraction "
     "halved (<= 0.5), the median and worst ratio; per scenario the worst IAE ratio and max|u| "
     "ratio to rac and to the oracle. --out-dir writes scenario_K.yaml and runs.jsonl (one "
-    "preadapt_sim --json line per run). Exit code 2 on bad input.";
+    "preadapt_sim --json line per run). --delay, --time-constant, --effectiveness and "
+    "--turbulence run every mode under those plant conditions (docs/conditions.md). Exit code 2 "
+    "on bad input.";
 
 struct Job {
   int scenario = 0;
@@ -53,6 +55,7 @@ int main(int argc, char** argv) {
     CLI::App app{kAbout, "preadapt_family"};
     cli::RunOptionText text;
     std::string seed_t, count_t, modes_t, noise_t, regimes_t, segments_t, ref_t, jobs_t;
+    std::string delay_t, lag_t, lambda_t, gust_t;
     cli::addRunOptions(app, &base, &text, false);
     cli::addText(app, "--seed", &seed_t, "the family's generator seed (required)");
     cli::addText(app, "--count", &count_t, "scenarios (default 30)");
@@ -63,6 +66,15 @@ int main(int argc, char** argv) {
     cli::addText(app, "--regimes", &regimes_t, "distinct regimes (default 3)");
     cli::addText(app, "--segments", &segments_t, "segments after the first (default 10)");
     cli::addText(app, "--ref-every", &ref_t, "reference steps about every S seconds (default off)");
+    cli::addText(app, "--delay", &delay_t,
+                 "servo transport delay [s] in every run (plant.actuator.delay)");
+    cli::addText(app, "--time-constant", &lag_t,
+                 "servo lag time constant [s] in every run (plant.actuator.time_constant)");
+    cli::addText(app, "--effectiveness", &lambda_t,
+                 "constant elevator effectiveness Lambda in (0, 2] over every scenario");
+    cli::addText(app, "--turbulence", &gust_t,
+                 "Dryden vertical gust sigma_w [m/s] (plant.turbulence, its length scale from "
+                 "the YAML; the gust seed is derived from the family seed and the scenario)");
     cli::addText(app, "--out-dir", &out_dir, "write the scenarios and every run's JSON here");
     app.add_flag("--json", json, "also print one JSON line per mode with every ratio");
     cli::addText(app, "--jobs", &jobs_t, "threads (default: all cores)");
@@ -98,6 +110,27 @@ int main(int argc, char** argv) {
       jobs = static_cast<unsigned>(j);
     }
     if (!seed) throw cli::UsageError("--seed is required (the family's generator seed)");
+    // The conditions go in as --set overrides, so the keys' own validation names them.
+    std::string conditions;
+    const auto condition = [&](const std::string& flag, const std::string& text,
+                               const std::string& key) {
+      if (text.empty()) return;
+      cli::parseDouble(flag, text);
+      base.sets.push_back(key + "=" + text);
+      conditions += (conditions.empty() ? "" : ", ") + key + " " + text;
+    };
+    condition("--delay", delay_t, "plant.actuator.delay");
+    condition("--time-constant", lag_t, "plant.actuator.time_constant");
+    condition("--turbulence", gust_t, "plant.turbulence.sigma_w");
+    if (!gust_t.empty()) base.sets.push_back("plant.turbulence.enabled=true");
+    std::optional<double> lambda;
+    if (!lambda_t.empty()) {
+      lambda = cli::parseDouble("--effectiveness", lambda_t);
+      if (!(*lambda > 0.0 && *lambda <= 2.0))
+        throw cli::UsageError("--effectiveness: elevator effectiveness must be in (0, 2], got " +
+                              lambda_t);
+      conditions += (conditions.empty() ? "" : ", ") + std::string("effectiveness ") + lambda_t;
+    }
     if (spec.regimes < 1 || spec.regimes > 50) throw cli::UsageError("--regimes: expected 1..50");
     if (spec.segments < 2 * spec.regimes || spec.segments > 1000)
       throw cli::UsageError("--segments: expected 2 * regimes .. 1000");
@@ -116,6 +149,7 @@ int main(int argc, char** argv) {
     std::vector<Job> list;
     for (int k = 0; k < count; ++k) {
       scenarios.push_back(recurringScenario(spec, *seed, k));
+      if (lambda) scenarios.back().effectiveness = {{scenarios.back().endTime(), *lambda}};
       repeated.push_back(repeatedWindows(scenarios.back()));
       if (!out_dir.empty()) {
         std::ofstream f(out_dir + "/scenario_" + std::to_string(k) + ".yaml");
@@ -134,6 +168,9 @@ int main(int argc, char** argv) {
           for (int i = 1; i < spec.n; ++i) job.cfg.plant.noise.std[i] = noise;
           job.cfg.plant.noise.seed = *seed * 1000003ULL + static_cast<std::uint64_t>(k);
         }
+        // A gust of its own per scenario, the same for every mode (paired comparison).
+        if (!gust_t.empty())
+          job.cfg.plant.turbulence.seed = *seed * 1000033ULL + static_cast<std::uint64_t>(k);
         list.push_back(std::move(job));
       }
     }
@@ -198,6 +235,7 @@ int main(int argc, char** argv) {
         "family seed %llu: %d scenarios, %d regimes, %d segments, noise %g on alpha and q; %zu "
         "repeated-switch windows\n",
         static_cast<unsigned long long>(*seed), count, spec.regimes, spec.segments, noise, rep);
+    if (!conditions.empty()) std::printf("plant conditions: %s\n", conditions.c_str());
     std::printf("%-15s %7s %7s %7s %7s | %8s %7s | %8s %5s | %8s %8s\n", "mode", "better", "halved",
                 "median", "worst", "all:med", "worst", "IAE:wst", ">5%", "u/rac", "u/oracle");
     for (const auto& m : modes) {
@@ -213,6 +251,7 @@ int main(int argc, char** argv) {
         o["seed"] = *seed;
         o["count"] = count;
         o["noise"] = noise;
+        if (!conditions.empty()) o["conditions"] = conditions;
         o["windows"] = s.windows;
         o["frac_better"] = s.frac_better;
         o["frac_halved"] = s.frac_halved;

@@ -83,5 +83,29 @@ rc=$?
 [ $? = 2 ] && grep -q -- "--max-effectiveness" "$W/err" && ok "--max-effectiveness 3 refused" ||
   bad "--max-effectiveness 3: $(cat "$W/err")"
 
+# preadapt_family under the conditions: they reach the runs (the scenarios written carry the
+# effectiveness; rac's IAE changes) and bad values are refused naming the flag.
+"$BIN/preadapt_family" --seed 3 --count 1 --modes rac --jobs 1 --out-dir "$W/ideal" >/dev/null ||
+  bad "family ideal exited $?"
+"$BIN/preadapt_family" --seed 3 --count 1 --modes rac --jobs 1 --json --delay 0.05 \
+  --time-constant 0.05 --effectiveness 0.5 --turbulence 3 --out-dir "$W/fam" >"$W/cond.txt" ||
+  bad "family with conditions exited $?"
+grep -q "^plant conditions: plant.actuator.delay 0.05, plant.actuator.time_constant 0.05, plant.turbulence.sigma_w 3, effectiveness 0.5" "$W/cond.txt" &&
+  grep -q "value: 0.5" "$W/fam/scenario_0.yaml" && ok "family: conditions reported and written" ||
+  bad "family conditions: $(cat "$W/cond.txt")"
+/usr/bin/python3 - "$W/ideal/runs.jsonl" "$W/fam/runs.jsonl" <<'PY' && ok "family: rac's run differs under the conditions" || bad "family: conditions did not reach the run"
+import json, sys
+ideal = json.loads(open(sys.argv[1]).readline())
+run = json.loads(open(sys.argv[2]).readline())
+assert run['mode'] == 'rac' and ideal['mode'] == 'rac'
+assert run['iae'] > 1.05 * ideal['iae'], (run['iae'], ideal['iae'])
+PY
+"$BIN/preadapt_family" --seed 3 --count 1 --effectiveness 2.5 >"$W/out" 2>"$W/err"
+[ $? = 2 ] && grep -q -- "--effectiveness" "$W/err" && ok "family --effectiveness 2.5 refused" ||
+  bad "family --effectiveness 2.5: $(cat "$W/err")"
+"$BIN/preadapt_family" --seed 3 --count 1 --delay -1 >"$W/out" 2>"$W/err"
+[ $? = 2 ] && grep -q "plant.actuator.delay" "$W/err" && ok "family --delay -1 refused naming the key" ||
+  bad "family --delay -1: $(cat "$W/err")"
+
 echo "conditions_cli: $PASS passed, $FAIL failed"
 [ "$FAIL" = 0 ]
