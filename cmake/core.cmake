@@ -26,6 +26,12 @@ pmrac_library(preadaptive_mrac_core
   src/core/scenario_plant.cpp
   src/core/scenario.cpp
   src/core/network.cpp
+  src/core/controller_config.cpp
+  src/core/robust_config.cpp
+  src/core/event.cpp
+  src/core/velocity_estimator.cpp
+  src/core/attention.cpp
+  src/core/sensitivity_tracker.cpp
   src/core/controller.cpp
   src/core/l1_law.cpp
   src/core/paper_preadaptation.cpp

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/attention.hpp"
+
 namespace preadaptive_mrac {
 
 Detection OraclePreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/attention.hpp"
+
 namespace preadaptive_mrac {
 
 void clampToBall(Vec* theta, double radius) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "preadaptive_mrac/core/attention.hpp"
 #include "preadaptive_mrac/core/paper_preadaptation.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 

@@ -4,7 +4,7 @@
 /// first sample) theta_hat is set to the true theta, instantly; the MRAC law runs as usual.
 /// Needs the truth (like pa_learn_exact), so it cannot run on a real aircraft.
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/event.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
 
 namespace preadaptive_mrac {

@@ -4,8 +4,12 @@
 /// each onset), pa_learn / pa_learn_exact (and learn from each phase, eqs. perf-pap ..
 /// der-E-Vpa, with the approximate or the exact sensitivity).
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/event.hpp"
+#include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
+#include "preadaptive_mrac/core/sensitivity_tracker.hpp"
+#include "preadaptive_mrac/core/solvers.hpp"
 
 namespace preadaptive_mrac {
 

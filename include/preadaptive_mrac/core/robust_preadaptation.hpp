@@ -12,7 +12,10 @@
 
 #include <vector>
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/event.hpp"
+#include "preadaptive_mrac/core/network.hpp"
+#include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/preadaptation.hpp"
 #include "preadaptive_mrac/core/regime_memory.hpp"
 

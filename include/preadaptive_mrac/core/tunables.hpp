@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 
 namespace preadaptive_mrac {

@@ -1,0 +1,83 @@
+#pragma once
+/// \file controller_config.hpp
+/// \brief The controller's parameters (key `controller`) and the subset tunable at run time.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "preadaptive_mrac/core/l1_law.hpp"
+#include "preadaptive_mrac/core/robust_config.hpp"
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+class ParamReader;
+
+/// \brief What the preadaptation does at an onset and after a phase.
+enum class Mode {
+  kRac,           ///< regular adaptive control: never resets theta_hat
+  kPa,            ///< preadaptation, network fixed
+  kPaLearn,       ///< preadaptation, learning with the approximate gradient (Pi_hat)
+  kPaLearnExact,  ///< preadaptation, learning with the exact gradient (needs true theta)
+  kPaRobust,      ///< robust preadaptation: residual trigger, regime memory, verification
+  kOracle,        ///< yardstick: theta_hat := true theta at each switch (needs true theta)
+  kL1,            ///< L1 adaptive control (docs/l1.md) in place of the MRAC law; never resets
+};
+const char* modeName(Mode m);
+/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact" | "pa_robust" | "oracle" | "l1".
+std::optional<Mode> parseMode(const std::string& s);
+
+/// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
+struct ControllerConfig {
+  Mode mode = Mode::kPaLearn;
+  double sample_time = 0.001;         ///< controller period dt [s]
+  Eigen::MatrixXd Q;                  ///< LQR state weight (n x n, symmetric >= 0)
+  double R = 1.0;                     ///< LQR input weight (> 0)
+  double k0 = 0.0;                    ///< feed-forward gain of r (B2r = k0 B)
+  double gamma = 10.0;                ///< adaptation gain
+  Eigen::VectorXd theta_hat0;         ///< initial estimate (n)
+  double tau = 0.01;                  ///< velocity-estimator time constant [s]
+  double c_e = 0.005;                 ///< attention error threshold [rad]
+  double c_ed = 0.02;                 ///< attention rate threshold [rad/s]
+  int hidden = 3;                     ///< hidden neurons
+  double init_scale = 1.0;            ///< initial weights uniform in [-init_scale, init_scale]
+  std::uint64_t seed = 1;             ///< seed of the initial weights
+  double gamma_pa = 10.0;             ///< learning rate of the preadaptation learner
+  int confirm_samples = 0;            ///< attention debounce: crossings must hold this many samples
+  double hysteresis = 0.0;            ///< attention: recovery threshold is c_e - hysteresis [rad]
+  bool freeze_when_saturated = true;  ///< no adaptation while the elevator is at a limit
+  bool projection = false;          ///< smooth projection of theta_hat onto ||theta|| <= theta_max
+  double theta_max = 0.0;           ///< radius of Omega
+  double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
+  RobustConfig robust;              ///< pa_robust (optional section; defaults documented)
+  L1Config l1;                      ///< mode l1 (optional section `controller.l1`; docs/l1.md)
+
+  /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
+  static ControllerConfig read(ParamReader& r, int n, const std::string& prefix = "controller");
+  /// \brief Every problem with the values (signs, sizes, finiteness) into the reader.
+  void validate(ParamReader& r, int n, const std::string& prefix = "controller") const;
+};
+
+/// \brief The parameters that may change while the controller runs (dynamic_reconfigure):
+/// attention thresholds, adaptation and learning gains, projection and pa_robust's parameters.
+/// Controller::setTunables queues them; they take effect at the start of the next step().
+struct ControllerTunables {
+  double c_e = 0.005;               ///< controller.attention.c_e [rad]
+  double c_ed = 0.02;               ///< controller.attention.c_ed [rad/s]
+  int confirm_samples = 0;          ///< controller.attention.confirm_samples
+  double hysteresis = 0.0;          ///< controller.attention.hysteresis [rad]
+  double gamma = 10.0;              ///< controller.adaptation.gamma
+  double gamma_pa = 10.0;           ///< controller.preadaptation.gamma_pa
+  bool projection = false;          ///< controller.projection.enabled
+  double theta_max = 0.0;           ///< controller.projection.theta_max
+  double projection_epsilon = 0.1;  ///< controller.projection.epsilon
+  RobustConfig robust;              ///< controller.robust.*
+
+  /// \brief The tunables of a configuration.
+  static ControllerTunables of(const ControllerConfig& c);
+  /// \brief Write these values into a configuration.
+  void applyTo(ControllerConfig* c) const;
+};
+
+}  // namespace preadaptive_mrac

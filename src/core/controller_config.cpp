@@ -1,0 +1,159 @@
+#include "preadaptive_mrac/core/controller_config.hpp"
+
+#include <cmath>
+
+#include "preadaptive_mrac/core/network.hpp"
+#include "preadaptive_mrac/core/params.hpp"
+
+namespace preadaptive_mrac {
+
+const char* modeName(Mode m) {
+  switch (m) {
+    case Mode::kRac:
+      return "rac";
+    case Mode::kPa:
+      return "pa";
+    case Mode::kPaLearn:
+      return "pa_learn";
+    case Mode::kPaLearnExact:
+      return "pa_learn_exact";
+    case Mode::kPaRobust:
+      return "pa_robust";
+    case Mode::kOracle:
+      return "oracle";
+    case Mode::kL1:
+      return "l1";
+  }
+  return "?";
+}
+
+std::optional<Mode> parseMode(const std::string& s) {
+  if (s == "rac") return Mode::kRac;
+  if (s == "pa") return Mode::kPa;
+  if (s == "pa_learn") return Mode::kPaLearn;
+  if (s == "pa_learn_exact") return Mode::kPaLearnExact;
+  if (s == "pa_robust") return Mode::kPaRobust;
+  if (s == "oracle") return Mode::kOracle;
+  if (s == "l1") return Mode::kL1;
+  return std::nullopt;
+}
+
+ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string& p) {
+  ControllerConfig c;
+  const std::string mode = r.getString(p + ".mode");
+  if (r.has(p + ".mode")) {
+    auto m = parseMode(mode);
+    if (m) {
+      c.mode = *m;
+    } else if (!mode.empty() || r.has(p + ".mode")) {
+      r.fail(p + ".mode",
+             "expected one of rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle, l1, got '" +
+                 mode + "'");
+    }
+  }
+  c.sample_time = r.getDouble(p + ".sample_time");
+  c.Q = r.getMatrix(p + ".lqr.Q", n > 0 ? n : -1, n > 0 ? n : -1);
+  c.R = r.getDouble(p + ".lqr.R");
+  c.k0 = r.getDouble(p + ".reference_model.k0");
+  c.gamma = r.getDouble(p + ".adaptation.gamma");
+  c.theta_hat0 = r.getVector(p + ".adaptation.theta_hat0", n > 0 ? n : -1);
+  c.tau = r.getDouble(p + ".velocity_estimator.tau");
+  c.c_e = r.getDouble(p + ".attention.c_e");
+  c.c_ed = r.getDouble(p + ".attention.c_ed");
+  c.hidden = static_cast<int>(r.getInt(p + ".preadaptation.hidden"));
+  c.init_scale = r.getDouble(p + ".preadaptation.init_scale");
+  const std::int64_t seed = r.getInt(p + ".preadaptation.seed");
+  if (seed < 0) r.fail(p + ".preadaptation.seed", "must be >= 0, got " + std::to_string(seed));
+  c.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+  c.gamma_pa = r.getDouble(p + ".preadaptation.gamma_pa");
+  // Options beyond the paper: optional, and their defaults reproduce the paper.
+  c.confirm_samples = static_cast<int>(r.getInt(p + ".attention.confirm_samples", 0));
+  c.hysteresis = r.getDouble(p + ".attention.hysteresis", 0.0);
+  c.freeze_when_saturated = r.getBool(p + ".adaptation.freeze_when_saturated", true);
+  if (r.has(p + ".projection")) {
+    c.projection = r.getBool(p + ".projection.enabled");
+    c.theta_max = r.getDouble(p + ".projection.theta_max");
+    c.projection_epsilon = r.getDouble(p + ".projection.epsilon");
+  } else {
+    r.noteDefault(p + ".projection", "absent (no projection)");
+  }
+  c.robust = RobustConfig::read(r, p + ".robust");
+  c.l1 = L1Config::read(r, p + ".l1");
+  c.validate(r, n, p);
+  return c;
+}
+
+void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) const {
+  auto positive = [&](const std::string& key, double v) {
+    if (r.usable(key) && !(v > 0.0)) r.fail(key, "must be > 0, got " + formatNumber(v));
+  };
+  positive(p + ".sample_time", sample_time);
+  positive(p + ".lqr.R", R);
+  positive(p + ".adaptation.gamma", gamma);
+  positive(p + ".attention.c_e", c_e);
+  positive(p + ".attention.c_ed", c_ed);
+  positive(p + ".preadaptation.gamma_pa", gamma_pa);
+  if (r.usable(p + ".velocity_estimator.tau") && !(tau >= 0.0))
+    r.fail(p + ".velocity_estimator.tau", "must be >= 0, got " + formatNumber(tau));
+  if (r.usable(p + ".preadaptation.init_scale") && !(init_scale >= 0.0))
+    r.fail(p + ".preadaptation.init_scale", "must be >= 0, got " + formatNumber(init_scale));
+  if (r.usable(p + ".preadaptation.hidden") && (hidden < 1 || hidden > kMaxHidden))
+    r.fail(p + ".preadaptation.hidden",
+           "must be in [1, " + std::to_string(kMaxHidden) + "], got " + std::to_string(hidden));
+  if (r.usable(p + ".attention.confirm_samples") && confirm_samples < 0)
+    r.fail(p + ".attention.confirm_samples",
+           "must be >= 0, got " + std::to_string(confirm_samples));
+  if (r.usable(p + ".attention.hysteresis") && !(hysteresis >= 0.0 && hysteresis < c_e))
+    r.fail(p + ".attention.hysteresis",
+           "must be in [0, c_e = " + formatNumber(c_e) + "), got " + formatNumber(hysteresis));
+  if (r.has(p + ".projection")) {
+    positive(p + ".projection.theta_max", theta_max);
+    if (r.usable(p + ".projection.epsilon") &&
+        !(projection_epsilon > 0.0 && projection_epsilon <= 1.0))
+      r.fail(p + ".projection.epsilon",
+             "must be in (0, 1], got " + formatNumber(projection_epsilon));
+    if (projection && theta_hat0.size() > 0 && r.usable(p + ".adaptation.theta_hat0") &&
+        theta_hat0.norm() > theta_max)
+      r.fail(p + ".adaptation.theta_hat0",
+             "lies outside Omega (norm " + formatNumber(theta_hat0.norm()) + " > theta_max)");
+  }
+  if (r.has(p + ".robust")) robust.validate(r, p + ".robust");
+  if (r.has(p + ".l1")) l1.validate(r, p + ".l1", sample_time);
+  if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
+    if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
+      r.fail(p + ".lqr.Q", "must be symmetric");
+    else if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Q).eigenvalues().minCoeff() <
+             -1e-12 * std::max(1.0, Q.norm()))
+      r.fail(p + ".lqr.Q", "must be positive semi-definite");
+  }
+}
+
+ControllerTunables ControllerTunables::of(const ControllerConfig& c) {
+  ControllerTunables t;
+  t.c_e = c.c_e;
+  t.c_ed = c.c_ed;
+  t.confirm_samples = c.confirm_samples;
+  t.hysteresis = c.hysteresis;
+  t.gamma = c.gamma;
+  t.gamma_pa = c.gamma_pa;
+  t.projection = c.projection;
+  t.theta_max = c.theta_max;
+  t.projection_epsilon = c.projection_epsilon;
+  t.robust = c.robust;
+  return t;
+}
+
+void ControllerTunables::applyTo(ControllerConfig* c) const {
+  c->c_e = c_e;
+  c->c_ed = c_ed;
+  c->confirm_samples = confirm_samples;
+  c->hysteresis = hysteresis;
+  c->gamma = gamma;
+  c->gamma_pa = gamma_pa;
+  c->projection = projection;
+  c->theta_max = theta_max;
+  c->projection_epsilon = projection_epsilon;
+  c->robust = robust;
+}
+
+}  // namespace preadaptive_mrac
