@@ -37,6 +37,7 @@
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
@@ -47,18 +48,18 @@ namespace {
 
 constexpr int kPasses = 3;  // whole passes over the 140 000-sample recording per repetition
 
-RunConfig loadConfig(const std::string& scenario, Mode mode) {
+RunConfig loadConfig(const std::string& scenario, const std::string& mode) {
   ParamValue tree = ParamValue::makeMap();
   tree.merge(loadYamlFile(defaultPlantPath()));
   tree.merge(loadYamlFile(defaultControllerPath()));
   tree.merge(loadYamlFile(scenarioPath(scenario)));
-  tree.setPath("controller.mode", ParamValue::makeString(modeName(mode)));
+  tree.setPath("controller.mode", ParamValue::makeString(mode));
   return readRunConfig(tree);
 }
 
 /// A closed-loop run of one mode, recorded for replay.
 struct Recording {
-  Mode mode;
+  std::string mode;
   RunConfig cfg;
   NetworkState net0;
   std::vector<double> t, r, u;
@@ -84,7 +85,7 @@ StepInput inputAt(const Recording& rec, size_t k) {
   return in;
 }
 
-std::unique_ptr<Recording> record(Mode mode) {
+std::unique_ptr<Recording> record(const std::string& mode) {
   auto rec = std::make_unique<Recording>();
   rec->mode = mode;
   rec->cfg = loadConfig("3", mode);
@@ -235,12 +236,11 @@ int main(int argc, char** argv) {
 
   std::vector<std::unique_ptr<Recording>> recs;
   try {
-    for (Mode m : {Mode::kRac, Mode::kPa, Mode::kPaLearn, Mode::kPaLearnExact, Mode::kPaRobust,
-                   Mode::kOracle}) {
+    for (const std::string& m : modeNameList()) {
       recs.push_back(record(m));
       const std::string err = verifyReplay(*recs.back());
       if (!err.empty()) {
-        std::fprintf(stderr, "bench_controller: %s: %s\n", modeName(m), err.c_str());
+        std::fprintf(stderr, "bench_controller: %s: %s\n", m.c_str(), err.c_str());
         return 1;
       }
     }
@@ -250,14 +250,14 @@ int main(int argc, char** argv) {
   }
 
   for (const auto& rec : recs) {
-    const std::string m = modeName(rec->mode);
+    const std::string m = rec->mode;
     benchmark::RegisterBenchmark(("ControllerStep/" + m + "/trajectory").c_str(),
                                  BM_ControllerStepTrajectory, rec.get())
         ->Iterations(static_cast<benchmark::IterationCount>(kPasses * rec->steps()))
         ->Unit(benchmark::kNanosecond);
   }
   for (const auto& rec : recs) {
-    const std::string m = modeName(rec->mode);
+    const std::string m = rec->mode;
     const size_t len = rec->phase_end - rec->phase_begin;
     benchmark::RegisterBenchmark(("ControllerStep/" + m + "/in_phase").c_str(),
                                  BM_ControllerStepInPhase, rec.get())
@@ -268,7 +268,7 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("PlantStep/rk4", BM_PlantStep, recs.front().get())
       ->Unit(benchmark::kNanosecond);
   for (const auto& rec : recs) {
-    const std::string m = modeName(rec->mode);
+    const std::string m = rec->mode;
     benchmark::RegisterBenchmark(("ClosedLoop/scenario3/" + m).c_str(), BM_ClosedLoopScenario3,
                                  rec.get())
         ->Unit(benchmark::kMillisecond);

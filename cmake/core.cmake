@@ -32,6 +32,8 @@ pmrac_library(preadaptive_mrac_core
   src/core/velocity_estimator.cpp
   src/core/attention.cpp
   src/core/sensitivity_tracker.cpp
+  src/core/mrac_law.cpp
+  src/core/mode_registry.cpp
   src/core/controller.cpp
   src/core/l1_law.cpp
   src/core/paper_preadaptation.cpp

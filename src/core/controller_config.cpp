@@ -2,54 +2,20 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/core/network.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 
 namespace preadaptive_mrac {
 
-const char* modeName(Mode m) {
-  switch (m) {
-    case Mode::kRac:
-      return "rac";
-    case Mode::kPa:
-      return "pa";
-    case Mode::kPaLearn:
-      return "pa_learn";
-    case Mode::kPaLearnExact:
-      return "pa_learn_exact";
-    case Mode::kPaRobust:
-      return "pa_robust";
-    case Mode::kOracle:
-      return "oracle";
-    case Mode::kL1:
-      return "l1";
-  }
-  return "?";
-}
-
-std::optional<Mode> parseMode(const std::string& s) {
-  if (s == "rac") return Mode::kRac;
-  if (s == "pa") return Mode::kPa;
-  if (s == "pa_learn") return Mode::kPaLearn;
-  if (s == "pa_learn_exact") return Mode::kPaLearnExact;
-  if (s == "pa_robust") return Mode::kPaRobust;
-  if (s == "oracle") return Mode::kOracle;
-  if (s == "l1") return Mode::kL1;
-  return std::nullopt;
-}
-
 ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string& p) {
   ControllerConfig c;
   const std::string mode = r.getString(p + ".mode");
   if (r.has(p + ".mode")) {
-    auto m = parseMode(mode);
-    if (m) {
-      c.mode = *m;
-    } else if (!mode.empty() || r.has(p + ".mode")) {
-      r.fail(p + ".mode",
-             "expected one of rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle, l1, got '" +
-                 mode + "'");
-    }
+    if (findMode(mode) != nullptr)
+      c.mode = mode;
+    else
+      r.fail(p + ".mode", "expected one of " + modeNames(", ") + ", got '" + mode + "'");
   }
   c.sample_time = r.getDouble(p + ".sample_time");
   c.Q = r.getMatrix(p + ".lqr.Q", n > 0 ? n : -1, n > 0 ? n : -1);

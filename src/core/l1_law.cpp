@@ -2,7 +2,10 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
@@ -127,19 +130,17 @@ void L1Law::reset() {
   filter_.reset();
 }
 
-void L1Law::setThetaHat(const Vec& theta) {
-  theta_hat_ = theta;
-  clampInto(&theta_hat_, cfg_.theta_max);
-}
+void L1Law::constrain() { clampInto(&theta_hat_, cfg_.theta_max); }
 
-double L1Law::command(const Vec& x, double r) {
-  differenceTo(x_hat_, x, &x_tilde_);
-  sigma_hat_ = dotOf(theta_hat_, x);
-  return filter_.update(-sigma_hat_ + k0_ * r);
+double L1Law::command(const Vec& x, double r) const {
+  return filter_.peek(-dotOf(theta_hat_, x) + k0_ * r);
 }
 
 void L1Law::advance(const Vec& x, double r, double u_ad_applied, bool adapt) {
-  // Predictor first, with the estimate the sample was predicted with (theta_hat_k).
+  differenceTo(x_hat_, x, &x_tilde_);
+  sigma_hat_ = dotOf(theta_hat_, x);
+  filter_.update(-sigma_hat_ + k0_ * r);  // u_ad,k as command() gave it
+  // Predictor next, with the estimate the sample was predicted with (theta_hat_k).
   lazyProductPlus(Phi_, x_hat_, Gam_r_, r, &x_hat_);
   addScaled(u_ad_applied + sigma_hat_, Gam_b_, &x_hat_);
   if (!adapt) return;
@@ -149,6 +150,13 @@ void L1Law::advance(const Vec& x, double r, double u_ad_applied, bool adapt) {
   projectUpdate(theta_hat_, cfg_.theta_max, cfg_.projection_epsilon, &upd_);
   addScaled(dt_, upd_, &theta_hat_);
   clampInto(&theta_hat_, cfg_.theta_max);
+}
+
+std::unique_ptr<AdaptiveLaw> makeL1Law(const ModeContext& m) {
+  const ControllerConfig& c = *m.cfg;
+  const Vec b_ref = m.plant->B1r + c.k0 * m.plant->B;
+  return std::make_unique<L1Law>(*m.design, *m.B, b_ref, c.k0, c.l1, c.sample_time, c.theta_hat0,
+                                 m.plant->x0);
 }
 
 }  // namespace preadaptive_mrac

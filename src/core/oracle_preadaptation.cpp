@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/attention.hpp"
+#include "preadaptive_mrac/core/controller_config.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 
 namespace preadaptive_mrac {
 
@@ -32,6 +34,10 @@ void OraclePreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
   (void)s;
   (void)theta_hat;
   ev->cost = phase_cost_;
+}
+
+std::unique_ptr<PreadaptationStrategy> makeOraclePreadaptation(const ModeContext& m) {
+  return std::make_unique<OraclePreadaptation>(m.cfg->sample_time);
 }
 
 }  // namespace preadaptive_mrac

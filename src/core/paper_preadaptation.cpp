@@ -3,13 +3,9 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/attention.hpp"
+#include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
-
-void clampToBall(Vec* theta, double radius) {
-  const double nrm = theta->norm();
-  if (nrm > radius) *theta *= radius / nrm;
-}
 
 Detection PreadaptationStrategy::detect(const Sample& s, const Vec& theta_hat,
                                         Attention* attention) {
@@ -35,12 +31,12 @@ void PreadaptationStrategy::onDecision(const Sample& s, Vec* theta_hat, Event* e
   (void)ev;
 }
 
-PaperPreadaptation::PaperPreadaptation(Mode mode, const ControllerConfig& cfg,
+PaperPreadaptation::PaperPreadaptation(Variant mode, const ControllerConfig& cfg,
                                        const ControllerDesign& design, const Vec& B, const Vec& PB,
                                        int out, PreadaptNetwork* net)
-    : resets_(mode != Mode::kRac),
-      learning_(mode == Mode::kPaLearn || mode == Mode::kPaLearnExact),
-      exact_(mode == Mode::kPaLearnExact),
+    : resets_(mode != Variant::kRac),
+      learning_(mode == Variant::kPaLearn || mode == Variant::kPaLearnExact),
+      exact_(mode == Variant::kPaLearnExact),
       projection_(cfg.projection),
       theta_max_(cfg.theta_max),
       gamma_pa_(cfg.gamma_pa),

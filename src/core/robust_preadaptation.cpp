@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/attention.hpp"
-#include "preadaptive_mrac/core/paper_preadaptation.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
@@ -521,6 +521,10 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
     net_->learn(z_onset_, ev->grad, rc_.network_rate);
     ev->learned = true;
   }
+}
+
+std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m) {
+  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.plant, m.net);
 }
 
 }  // namespace preadaptive_mrac

@@ -90,28 +90,39 @@ void ControllerReconfigure::callback(ControllerTuningConfig& config, uint32_t le
   (void)level;
   const ControllerTunables requested = fromReconfigure(config);
   const auto changes = diffTunables(accepted_, requested);
+  config.refusal = "";  // only a refusal of this request is shown
   if (changes.empty()) return;
-  const std::vector<std::string> problems = validateTunables(ctl_->config(), requested, style_);
-  if (!problems.empty()) {
-    ++refused_;
-    ROS_ERROR("reconfigure refused, %zu problem(s); keeping the values in force:", problems.size());
-    for (const auto& p : problems) ROS_ERROR("  %s", p.c_str());
-    toReconfigure(accepted_, &config);  // the answer shows the old values
-    return;
+  std::vector<std::string> problems = validateTunables(ctl_->config(), requested, style_);
+  if (problems.empty()) {
+    try {
+      ctl_->setTunables(requested);
+    } catch (const std::exception& e) {  // the same validation: not expected
+      problems.push_back(e.what());
+    }
   }
-  try {
-    ctl_->setTunables(requested);
-  } catch (const std::exception& e) {  // the same validation: not expected
-    ++refused_;
-    ROS_ERROR("reconfigure refused: %s", e.what());
-    toReconfigure(accepted_, &config);
+  if (!problems.empty()) {
+    refuse(problems, &config);
     return;
   }
   accepted_ = requested;
+  last_refusal_.clear();
   for (const auto& c : changes)
     ROS_INFO("reconfigure: %s %s -> %s (from the next step)",
              (style_.root + "controller" + style_.separator + c.key).c_str(),
              formatNumber(c.old_value).c_str(), formatNumber(c.new_value).c_str());
+}
+
+void ControllerReconfigure::refuse(const std::vector<std::string>& problems,
+                                   ControllerTuningConfig* config) {
+  ++refused_;
+  // Where the user asked: the answer (dynparam get, rqt_reconfigure, the client's return
+  // value) carries the old values and the problems; the console and the diagnostics too.
+  last_refusal_.clear();
+  for (const auto& p : problems) last_refusal_ += (last_refusal_.empty() ? "" : "; ") + p;
+  ROS_ERROR("reconfigure refused, %zu problem(s); keeping the values in force:", problems.size());
+  for (const auto& p : problems) ROS_ERROR("  %s", p.c_str());
+  toReconfigure(accepted_, config);
+  config->refusal = "refused, values kept: " + last_refusal_;
 }
 
 void ControllerReconfigure::afterStep(const StepOutput& out, std::uint64_t step, double t,

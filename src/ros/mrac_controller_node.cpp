@@ -131,7 +131,7 @@ bool MracControllerNode::subscribersReady() const {
 void MracControllerNode::start() {
   const ControllerDesign& d = ctl_.design();
   ROS_INFO("mrac_controller: mode %s, K = [%g %g %g], CARE residual %.2e, Lyapunov residual %.2e",
-           modeName(ctl_.mode()), d.K.size() > 0 ? d.K[0] : 0.0, d.K.size() > 1 ? d.K[1] : 0.0,
+           ctl_.mode().c_str(), d.K.size() > 0 ? d.K[0] : 0.0, d.K.size() > 1 ? d.K[1] : 0.0,
            d.K.size() > 2 ? d.K[2] : 0.0, d.care_residual, d.lyapunov_residual);
   // Only take states once every wanted subscriber (the plant, a recorder) is connected, so
   // that nothing this node publishes is lost to a late connection. Connections are made by
@@ -173,9 +173,8 @@ void MracControllerNode::subscribe() {
     ROS_WARN(
         "mode %s uses the SIMULATION TRUTH theta from %s (%s; only a simulator has it); "
         "each state waits for the truth of the same step",
-        modeName(ctl_.mode()), truth_sub_.getTopic().c_str(),
-        ctl_.mode() == Mode::kOracle ? "theta_hat := theta at each switch"
-                                     : "the learning gradient");
+        ctl_.mode().c_str(), truth_sub_.getTopic().c_str(),
+        ctl_.mode() == "oracle" ? "theta_hat := theta at each switch" : "the learning gradient");
   }
   if (input_guard_.enabled())
     ROS_INFO("taking %s%s only from %s (~accept_from)", state_topic_.c_str(),
@@ -441,7 +440,7 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   status->header.stamp = msg.header.stamp;
   status->step = msg.step;
   status->t = msg.t;
-  status->mode = modeName(ctl_.mode());
+  status->mode = ctl_.mode().c_str();
   status->x_ref.assign(out.x_ref.data(), out.x_ref.data() + n);
   status->theta_hat.assign(out.theta_hat.data(), out.theta_hat.data() + n);
   status->alpha_ref = out.x_ref[oi];
@@ -456,8 +455,8 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
 
   if (out.event && out.event->learned && params_.save_every_episode)
     saveWeights("after a learning episode");
-  else if (out.event && out.event->type == Event::Type::kRecovered &&
-           ctl_.mode() == Mode::kPaRobust && params_.save_every_episode)
+  else if (out.event && out.event->type == Event::Type::kRecovered && ctl_.mode() == "pa_robust" &&
+           params_.save_every_episode)
     saveWeights("after a recovery (the regimes pa_robust remembers)");
 }
 
@@ -531,10 +530,13 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   } else if (input_guard_.dropped() > 0) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                  "input from foreign publishers dropped (~accept_from)");
+  } else if (!reconf_->lastRefusal().empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 "reconfigure refused: " + reconf_->lastRefusal());
   } else {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
   }
-  stat.add("mode", modeName(ctl_.mode()));
+  stat.add("mode", ctl_.mode().c_str());
   stat.add("stale", stale_);
   stat.add("stale time [s]", state_guard_.haveValid() ? state_guard_.age(now) : -1.0);
   stat.add("stale timeout [s]", params_.stale_timeout);
@@ -564,6 +566,7 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   stat.add("plant restarts", plant_restarts_);
   stat.add("reconfigure changes applied", reconf_->applied());
   stat.add("reconfigure requests refused", reconf_->refused());
+  stat.add("last reconfigure refusal", reconf_->lastRefusal());
   stat.add("accept from", input_guard_.acceptedText());
   stat.add("foreign publisher drops", input_guard_.dropped());
   stat.add("foreign publishers", input_guard_.droppedText());

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
@@ -112,9 +113,9 @@ PreparedRun prepare(const RunRequest& req) {
     throw UsageError(e.what());
   }
   if (req.mode) {
-    if (!parseMode(*req.mode))
-      throw UsageError("--mode: unknown mode '" + *req.mode +
-                       "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust, oracle or l1)");
+    if (findMode(*req.mode) == nullptr)
+      throw UsageError("--mode: unknown mode '" + *req.mode + "' (expected " +
+                       modeNames(", ", " or ") + ")");
     tree.setPath("controller.mode", ParamValue::makeString(*req.mode));
   }
   if (req.seed)
@@ -141,7 +142,7 @@ PreparedRun prepare(const RunRequest& req) {
     }
   }
   run.info.scenario = req.scenario;
-  run.info.mode = modeName(run.cfg.controller.mode);
+  run.info.mode = run.cfg.controller.mode;
   run.info.seed = run.cfg.controller.seed;
   run.info.dt = run.cfg.controller.sample_time;
   run.info.overrides = req.sets;

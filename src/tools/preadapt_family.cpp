@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli_common.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/core/scenario_family.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
@@ -45,8 +46,7 @@ int main(int argc, char** argv) {
     cli::RunRequest base;
     std::optional<std::uint64_t> seed;
     int count = 30;
-    std::vector<std::string> modes = {"rac",       "pa",     "pa_learn", "pa_learn_exact",
-                                      "pa_robust", "oracle", "l1"};
+    std::vector<std::string> modes = modeNameList();
     double noise = 0.0;
     FamilySpec spec;
     std::string out_dir;
@@ -60,8 +60,7 @@ int main(int argc, char** argv) {
     cli::addText(app, "--seed", &seed_t, "the family's generator seed (required)");
     cli::addText(app, "--count", &count_t, "scenarios (default 30)");
     cli::addText(app, "--modes", &modes_t,
-                 "modes to compare with rac (default rac,pa,pa_learn,pa_learn_exact,pa_robust,"
-                 "oracle,l1)");
+                 "modes to compare with rac (default " + modeNames(",") + ")");
     cli::addText(app, "--noise", &noise_t, "measurement noise std on alpha and q (default 0)");
     cli::addText(app, "--regimes", &regimes_t, "distinct regimes (default 3)");
     cli::addText(app, "--segments", &segments_t, "segments after the first (default 10)");
@@ -89,7 +88,7 @@ int main(int argc, char** argv) {
     if (!modes_t.empty()) {
       modes.clear();
       for (const auto& m : cli::splitTopLevel(modes_t)) {
-        if (!parseMode(m)) throw cli::UsageError("--modes: unknown mode '" + m + "'");
+        if (findMode(m) == nullptr) throw cli::UsageError("--modes: unknown mode '" + m + "'");
         modes.push_back(m);
       }
     }
@@ -162,7 +161,7 @@ int main(int argc, char** argv) {
         job.mode = m;
         job.cfg = prepared.cfg;
         job.cfg.scenario = scenarios.back();
-        job.cfg.controller.mode = *parseMode(m);
+        job.cfg.controller.mode = m;
         if (noise > 0.0) {
           job.cfg.plant.noise.std = Eigen::VectorXd::Zero(spec.n);
           for (int i = 1; i < spec.n; ++i) job.cfg.plant.noise.std[i] = noise;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli_common.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
 
 using namespace preadaptive_mrac;
@@ -25,14 +26,20 @@ int main(int argc, char** argv) {
     cli::RunOptionText text;
     std::string mode, seed;
     cli::addRunOptions(app, &req, &text, true);
-    cli::addText(app, "--mode", &mode,
-                 "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle | l1");
+    cli::addText(app, "--mode", &mode, modeNames(" | "));
     cli::addText(app, "--seed", &seed, "seed of the network's initial weights");
     cli::addText(app, "--csv", &csv, "write the time series to this CSV file");
     app.add_flag("--json", json, "print one JSON summary line (the last line)");
     cli::addText(app, "--weights-in", &req.weights_in, "load network weights and regimes");
     cli::addText(app, "--weights-out", &weights_out, "save network weights and regimes");
+    bool list_modes = false;
+    app.add_flag("--list-modes", list_modes,
+                 "print the registered modes, one 'name<TAB>doc' line each, and exit");
     if (!cli::parseCommandLine(app, argc, argv)) return 0;
+    if (list_modes) {  // the one list, for the Python package, the docs and their test
+      for (const ModeEntry& m : modeRegistry()) std::cout << m.name << '\t' << m.doc << '\n';
+      return 0;
+    }
     if (app.count("--scenario") == 0)
       throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
     cli::finishRunOptions(text, &req);

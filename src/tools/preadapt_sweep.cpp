@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli_common.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 
 using namespace preadaptive_mrac;
 
@@ -146,7 +147,7 @@ int main(int argc, char** argv) {
     std::string modes_text, seeds_text, jobs_text;
     std::vector<std::string> grids;
     cli::addRunOptions(app, &base, &text, true);
-    cli::addText(app, "--modes", &modes_text, "comma-separated modes (rac, pa, pa_learn, ...)");
+    cli::addText(app, "--modes", &modes_text, "comma-separated modes: " + modeNames(", "));
     cli::addText(app, "--mode", &modes_text, "the same as --modes");
     cli::addText(app, "--seeds", &seeds_text, "network seeds: 1-20 or 1,5,9");
     cli::addTexts(app, "--grid", &grids, "key=v1,v2,... (repeatable; the last axis runs fastest)");
@@ -176,10 +177,9 @@ int main(int argc, char** argv) {
     cli::finishRunOptions(text, &base);
     if (!modes_text.empty())
       for (const auto& m : cli::splitTopLevel(modes_text)) {
-        if (!parseMode(m))
-          throw cli::UsageError("--modes: unknown mode '" + m +
-                                "' (expected rac, pa, pa_learn, pa_learn_exact, pa_robust, "
-                                "oracle or l1)");
+        if (findMode(m) == nullptr)
+          throw cli::UsageError("--modes: unknown mode '" + m + "' (expected " +
+                                modeNames(", ", " or ") + ")");
         modes.push_back(m);
       }
     if (!seeds_text.empty()) seeds = parseSeeds(seeds_text);

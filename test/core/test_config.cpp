@@ -56,7 +56,7 @@ TEST(Config, PackageFilesAreValid) {
   EXPECT_EQ(c.plant.n(), 3);
   EXPECT_EQ(c.scenario.theta.size(), 10u);
   EXPECT_DOUBLE_EQ(c.scenario.endTime(), 140.0);
-  EXPECT_EQ(c.controller.mode, Mode::kPaLearn);
+  EXPECT_EQ(c.controller.mode, "pa_learn");
   EXPECT_DOUBLE_EQ(c.controller.c_e, 0.005);
 }
 

@@ -24,7 +24,7 @@ TEST(ActuatorLimits, RateThenMagnitude) {
 TEST(ActuatorLimits, PlantAndControllerRespectThemAndAdaptationFreezes) {
   RunConfig cfg = test::packageConfig("3");
   cfg.plant.actuator = {true, 0.3, 1.0};
-  cfg.controller.mode = Mode::kPaLearn;
+  cfg.controller.mode = "pa_learn";
   cfg.controller.c_ed = 0.015;
   const SimResult res = test::simulate(cfg);
   const Series& s = res.series;
@@ -51,7 +51,7 @@ TEST(ActuatorLimits, PlantAndControllerRespectThemAndAdaptationFreezes) {
 
 TEST(Projection, EstimatesStayInOmegaUnderNoiseAndLargeJumps) {
   RunConfig cfg = test::packageConfig("3");
-  cfg.controller.mode = Mode::kPaLearn;
+  cfg.controller.mode = "pa_learn";
   cfg.controller.c_ed = 0.015;
   cfg.controller.init_scale = 20.0;  // wild network outputs at every reset
   cfg.plant.noise.std = Eigen::Vector3d(0.0, 2e-4, 2e-4);
@@ -79,7 +79,7 @@ TEST(Projection, EstimatesStayInOmegaUnderNoiseAndLargeJumps) {
 
 TEST(Projection, InsideTheInnerBallItChangesNothing) {
   RunConfig cfg = test::packageConfig("1");
-  cfg.controller.mode = Mode::kRac;
+  cfg.controller.mode = "rac";
   const SimResult free = test::simulate(cfg);
   cfg.controller.projection = true;
   cfg.controller.theta_max = 25.0;  // scenario 1's estimate stays below 2
@@ -91,7 +91,7 @@ TEST(Projection, InsideTheInnerBallItChangesNothing) {
 
 TEST(Noise, SeededAndReproducible) {
   RunConfig cfg = test::packageConfig("1");
-  cfg.controller.mode = Mode::kRac;
+  cfg.controller.mode = "rac";
   const SimResult clean = test::simulate(cfg);
   cfg.plant.noise.std = Eigen::Vector3d(0.0, 1e-3, 1e-3);
   cfg.plant.noise.seed = 7;

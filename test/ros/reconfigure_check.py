@@ -4,9 +4,10 @@
 The test publishes the plant's recorder progress (/gate/progress), so the lockstep plant stops
 about 2000 steps past what the test has released: it holds the run near step 3000, before the
 first switch (5 s). There it sends through the dynamic_reconfigure client
-  - c_ed = 0 (clamped by the server to the cfg's min 0, refused by the core's validation:
-    "must be > 0"), and hysteresis = 0.006 >= c_e (a rule no cfg range can express): both
-    answered with the old values, and an ERROR naming the key on /rosout;
+  - c_ed = -1 (refused by the core's validation: "must be > 0, got -1": the value asked,
+    not one the server clamped it to), and hysteresis = 0.006 >= c_e (a rule no cfg range can
+    express): both answered with the old values and `refusal` naming the key and the value
+    asked (what dynparam and rqt_reconfigure show), and an ERROR naming them on /rosout;
   - c_ed = 0.015 (the paper's 0.02 misses the switches at 5 s and 20 s; 0.015 sees them).
 Then it releases the plant and, after the run, closes the recorder's bag and checks:
   - one ParamChange (controller.attention.c_ed, 0.02 -> 0.015) stamped with a step s in
@@ -111,15 +112,15 @@ class ReconfigureTest(unittest.TestCase):
         self.assertIsNotNone(stop, "the plant did not stop at the gate")
         self.assertLess(stop, 4000)
 
-        got = client.update_configuration({"c_ed": 0.0})
+        got = client.update_configuration({"c_ed": -1.0})
         self.assertEqual(got["c_ed"], 0.02)
-        wait_for(
-            lambda: self.logged("/mrac_controller/controller/attention/c_ed: must be > 0"),
-            10,
-            "the refusal of c_ed = 0 on /rosout",
-        )
+        refusal = "/mrac_controller/controller/attention/c_ed: must be > 0, got -1"
+        self.assertIn(refusal, got["refusal"])
+        wait_for(lambda: self.logged(refusal), 10, "the refusal of c_ed = -1 on /rosout")
         got = client.update_configuration({"hysteresis": 0.006})
         self.assertEqual(got["hysteresis"], 0.0)
+        self.assertIn("/mrac_controller/controller/attention/hysteresis", got["refusal"])
+        self.assertIn("got 0.006", got["refusal"])
         wait_for(
             lambda: self.logged("/mrac_controller/controller/attention/hysteresis"),
             10,
@@ -127,6 +128,7 @@ class ReconfigureTest(unittest.TestCase):
         )
         got = client.update_configuration({"c_ed": 0.015})
         self.assertEqual(got["c_ed"], 0.015)
+        self.assertEqual(got["refusal"], "")
 
         # Release the rest: follow the status, so the gate never holds the plant again.
         end = time.monotonic() + 300

@@ -124,7 +124,7 @@ TEST(ControllerNodeParams, DefaultsFromThePackageConfig) {
   EXPECT_TRUE(p.weights_out.empty());
   EXPECT_TRUE(p.save_every_episode);
   EXPECT_EQ(p.min_command_subscribers, 1);
-  EXPECT_EQ(p.run.controller.mode, pm::Mode::kPaLearn);
+  EXPECT_EQ(p.run.controller.mode, "pa_learn");
   EXPECT_EQ(p.run.controller.hidden, 3);
   EXPECT_EQ(p.stale_policy, pm::StalePolicy::kBaselineHold);
 }

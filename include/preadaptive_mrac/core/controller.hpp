@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "preadaptive_mrac/core/adaptive_law.hpp"
 #include "preadaptive_mrac/core/attention.hpp"
 #include "preadaptive_mrac/core/controller_config.hpp"
 #include "preadaptive_mrac/core/event.hpp"
@@ -73,8 +74,9 @@ class Controller {
 
   const ControllerDesign& design() const { return design_; }
   const ControllerConfig& config() const { return cfg_; }
-  Mode mode() const { return cfg_.mode; }
-  const Vec& thetaHat() const { return theta_hat_; }
+  /// \brief The registered mode's name (mode_registry.hpp).
+  const std::string& mode() const { return cfg_.mode; }
+  const Vec& thetaHat() const { return law_->estimate(); }
   const Vec& xRef() const { return x_r_; }
   bool phaseActive() const { return attention_.phaseActive(); }
   const PreadaptNetwork& network() const { return net_; }
@@ -112,10 +114,8 @@ class Controller {
   Vec K_, B_, PB_, b_ref_;
   Mat Phi_r_;  // RK4 transition of the reference model over dt
   Vec Gam_r_;  // RK4 input vector of the reference model over dt (times r)
-  /// \brief Smooth projection (Pomet-Praly) of the update direction y at theta.
-  void project(const Vec& theta, Vec* y) const;
 
-  Vec x0_, x_r_, theta_hat_, ev_, upd_;
+  Vec x0_, x_r_, ev_;
   ActuatorLimits limits_;
   double u_prev_ = 0.0;      // last command sent (the rate limiter's memory; safeCommand too)
   double u_cmd_prev_ = 0.0;  // last answer of step() (what the plant applies in lockstep)
@@ -123,8 +123,8 @@ class Controller {
   VelocityEstimator vel_;
   Attention attention_;
   PreadaptNetwork net_;
+  std::unique_ptr<AdaptiveLaw> law_;  // owns theta_hat
   std::unique_ptr<PreadaptationStrategy> strategy_;
-  L1Law l1_;  // mode l1: the adaptive term and theta_hat come from the L1 law
   std::optional<ControllerTunables> pending_;  // queued by setTunables, applied by step()
   void applyTunables(const ControllerTunables& t);
 };

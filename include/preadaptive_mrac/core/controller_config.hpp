@@ -14,23 +14,9 @@ namespace preadaptive_mrac {
 
 class ParamReader;
 
-/// \brief What the preadaptation does at an onset and after a phase.
-enum class Mode {
-  kRac,           ///< regular adaptive control: never resets theta_hat
-  kPa,            ///< preadaptation, network fixed
-  kPaLearn,       ///< preadaptation, learning with the approximate gradient (Pi_hat)
-  kPaLearnExact,  ///< preadaptation, learning with the exact gradient (needs true theta)
-  kPaRobust,      ///< robust preadaptation: residual trigger, regime memory, verification
-  kOracle,        ///< yardstick: theta_hat := true theta at each switch (needs true theta)
-  kL1,            ///< L1 adaptive control (docs/l1.md) in place of the MRAC law; never resets
-};
-const char* modeName(Mode m);
-/// \brief Parse "rac" | "pa" | "pa_learn" | "pa_learn_exact" | "pa_robust" | "oracle" | "l1".
-std::optional<Mode> parseMode(const std::string& s);
-
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig {
-  Mode mode = Mode::kPaLearn;
+  std::string mode = "pa_learn";      ///< a registered mode (mode_registry.hpp)
   double sample_time = 0.001;         ///< controller period dt [s]
   Eigen::MatrixXd Q;                  ///< LQR state weight (n x n, symmetric >= 0)
   double R = 1.0;                     ///< LQR input weight (> 0)

@@ -5,10 +5,13 @@
 /// Cao and Hovakimyan, and a low-pass filter C(s) = omega / (s + omega) on the adaptive term.
 ///
 /// A part of its own: it knows the plant only through (A_r, B, b_ref, P) of the controller's
-/// design (solvers.hpp) and never sees the true theta.
+/// design (solvers.hpp) and never sees the true theta. Mode `l1` registers it as the adaptive
+/// law (adaptive_law.hpp, mode_registry.cpp).
 
+#include <memory>
 #include <string>
 
+#include "preadaptive_mrac/core/adaptive_law.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
@@ -39,9 +42,11 @@ class LowPassFilter {
   LowPassFilter() = default;
   /// \brief omega [rad/s] > 0, dt [s] > 0.
   LowPassFilter(double omega, double dt);
+  /// \brief y_k for input v_k, without moving the filter.
+  double peek(double v) const { return a_ * y_ + (1.0 - a_) * v; }
   /// \brief Feed v_k; returns y_k.
   double update(double v) {
-    y_ = a_ * y_ + (1.0 - a_) * v;
+    y_ = peek(v);
     return y_;
   }
   double value() const { return y_; }
@@ -73,38 +78,46 @@ double l1NormOfG(const Eigen::MatrixXd& Ar, const Eigen::VectorXd& B, double ome
 ///     control     u_ad      = C(s) [-theta_hat^T x + k0 r]
 ///
 /// Per sample t_k (docs/l1.md, "Discretisation"): command() gives u_ad,k from x_k; advance()
-/// then moves the predictor (RK4 with its input held, the reference model's discretisation),
-/// theta_hat (forward Euler, projected, clamped to Omega) and the filter to t_{k+1}.
+/// then moves the filter, the predictor (RK4 with its input held, the reference model's
+/// discretisation) and theta_hat (forward Euler, projected, clamped to Omega) to t_{k+1}.
 /// Allocation-free after construction.
-class L1Law {
+class L1Law : public AdaptiveLaw {
  public:
-  L1Law() = default;
   /// \brief `design` from designController (K, A_r, P); B the plant's input vector; b_ref the
   /// reference input vector (B1r + k0 B); k0 the feed-forward gain of r; dt [s] the sample
   /// time; theta_hat0 the initial estimate (projected into Omega); x0 the initial state.
   L1Law(const ControllerDesign& design, const Vec& B, const Vec& b_ref, double k0,
         const L1Config& cfg, double dt, const Vec& theta_hat0, const Vec& x0);
 
+  // The adaptive-law seam (adaptive_law.hpp).
+  std::unique_ptr<AdaptiveLaw> clone() const override { return std::make_unique<L1Law>(*this); }
+  /// \brief Back to the initial predictor state, estimate and filter.
+  void reset() override;
+  const Vec& estimate() const override { return theta_hat_; }
+  Vec* mutableEstimate() override { return &theta_hat_; }
+  /// \brief An estimate set from outside (a preadaptation reset) is projected into Omega.
+  void constrain() override;
+  double command(const LawInput& in) const override { return command(*in.x, in.r); }
+  /// \brief advance() below with the law's own command as the adaptive part applied (the seam
+  /// does not carry the applied elevator; while it is limited the controller freezes `adapt`).
+  void advance(const LawInput& in, bool adapt) override {
+    advance(*in.x, in.r, command(*in.x, in.r), adapt);
+  }
+
   /// \brief The adaptive command at sample k from the measured x_k and r_k [rad]: the filter
-  /// fed -theta_hat_k^T x_k + k0 r_k. Call once per sample, before advance().
-  double command(const Vec& x, double r);
-  /// \brief Advance predictor, estimate and filter to t_{k+1}. `u_ad_applied` [rad] is the
+  /// fed -theta_hat_k^T x_k + k0 r_k. Does not move the filter; advance() does.
+  double command(const Vec& x, double r) const;
+  /// \brief Advance filter, predictor and estimate to t_{k+1}. `u_ad_applied` [rad] is the
   /// adaptive part the plant received over the sample (the command, or less when the elevator
   /// was limited: u_applied + K x). `adapt` false freezes theta_hat over this sample.
   void advance(const Vec& x, double r, double u_ad_applied, bool adapt = true);
-  /// \brief Back to the initial predictor state, estimate and filter.
-  void reset();
-  /// \brief Replace the estimate (a preadaptation reset), projected into Omega.
-  void setThetaHat(const Vec& theta);
-  /// \brief A new adaptation rate from the next sample on.
-  void setGamma(double gamma) { cfg_.gamma = gamma; }
 
   const Vec& thetaHat() const { return theta_hat_; }
   /// \brief Predictor state xh at the current sample.
   const Vec& xHat() const { return x_hat_; }
-  /// \brief Prediction error xt = xh - x of the last command() call.
+  /// \brief Prediction error xt = xh - x of the last advanced sample.
   const Vec& predictionError() const { return x_tilde_; }
-  /// \brief theta_hat^T x of the last command() call: the estimate of the matched uncertainty.
+  /// \brief theta_hat^T x of the last advanced sample: the estimate of the matched uncertainty.
   double sigmaHat() const { return sigma_hat_; }
   const LowPassFilter& filter() const { return filter_; }
   const L1Config& config() const { return cfg_; }
@@ -121,5 +134,10 @@ class L1Law {
   double sigma_hat_ = 0.0;
   LowPassFilter filter_;
 };
+
+struct ModeContext;
+/// \brief The registry's factory of L1Law (mode `l1`): the controller's design, B, B1r + k0 B,
+/// `controller.l1`, the sample time, theta_hat0 and the plant's x0.
+std::unique_ptr<AdaptiveLaw> makeL1Law(const ModeContext& m);
 
 }  // namespace preadaptive_mrac

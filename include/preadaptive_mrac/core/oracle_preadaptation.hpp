@@ -17,6 +17,7 @@ class OraclePreadaptation : public PreadaptationStrategy {
     return std::make_unique<OraclePreadaptation>(*this);
   }
   bool needsTruth() const override { return true; }
+  bool constrainsEvents() const override { return true; }
   void reset() override {
     have_last_ = false;
     phase_cost_ = 0.0;
@@ -33,5 +34,9 @@ class OraclePreadaptation : public PreadaptationStrategy {
   Vec last_;
   double phase_cost_ = 0.0;
 };
+
+struct ModeContext;
+/// \brief The registry's factory (mode_registry.hpp).
+std::unique_ptr<PreadaptationStrategy> makeOraclePreadaptation(const ModeContext& m);
 
 }  // namespace preadaptive_mrac

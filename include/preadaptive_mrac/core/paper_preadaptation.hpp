@@ -13,13 +13,12 @@
 
 namespace preadaptive_mrac {
 
-/// \brief Ball projection of a reset value onto Omega = {|theta| <= radius}.
-void clampToBall(Vec* theta, double radius);
-
 /// \brief rac, pa, pa_learn, pa_learn_exact: detection by the attention function.
 class PaperPreadaptation : public PreadaptationStrategy {
  public:
-  PaperPreadaptation(Mode mode, const ControllerConfig& cfg, const ControllerDesign& design,
+  /// \brief Which of the paper's four modes.
+  enum class Variant { kRac, kPa, kPaLearn, kPaLearnExact };
+  PaperPreadaptation(Variant variant, const ControllerConfig& cfg, const ControllerDesign& design,
                      const Vec& B, const Vec& PB, int out, PreadaptNetwork* net);
   bool needsTruth() const override { return exact_; }
   std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {

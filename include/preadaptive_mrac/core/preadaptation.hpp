@@ -55,6 +55,9 @@ class PreadaptationStrategy {
   virtual std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const = 0;
   /// \brief True when the strategy needs Sample::theta_true (a simulation-only mode).
   virtual bool needsTruth() const { return false; }
+  /// \brief True when the estimate an event leaves must be brought back into the law's set
+  /// (AdaptiveLaw::constrain). The paper's modes reset as the paper does, unprojected.
+  virtual bool constrainsEvents() const { return false; }
   /// \brief Back to the start of a run (keeps what was learned: network, memory).
   virtual void reset() {}
   /// \brief Every sample before the command: what happened. Default: the paper's attention

@@ -29,6 +29,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
     c->net_ = net;
     return c;
   }
+  bool constrainsEvents() const override { return true; }
   void reset() override;
   Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
   void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;
@@ -108,5 +109,9 @@ class RobustPreadaptation : public PreadaptationStrategy {
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };
+
+struct ModeContext;
+/// \brief The registry's factory (mode_registry.hpp).
+std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m);
 
 }  // namespace preadaptive_mrac

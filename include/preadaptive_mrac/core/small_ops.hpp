@@ -24,6 +24,12 @@ inline bool& genericPathsOnly() {
 /// \brief Three entries and no test override: take the written-out path.
 inline bool fastThree(Eigen::Index n) { return n == 3 && !genericPathsOnly(); }
 
+/// \brief Ball projection of an estimate onto Omega = {|theta| <= radius}.
+inline void clampToBall(Vec* theta, double radius) {
+  const double nrm = theta->norm();
+  if (nrm > radius) *theta *= radius / nrm;
+}
+
 /// \brief a . b. Eigen sums three entries as (a0 b0 + a1 b1) + a2 b2 (a packet of two, then
 /// the tail).
 inline double dotOf(const Vec& a, const Vec& b) {

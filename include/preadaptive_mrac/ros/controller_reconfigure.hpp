@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "preadaptive_mrac/ControllerTuningConfig.h"
 #include "preadaptive_mrac/ParamChange.h"
@@ -27,11 +28,12 @@ void toReconfigure(const ControllerTunables& t, ControllerTuningConfig* c);
 ///
 /// A request is checked with the core's validation (validateTunables: the YAML's rules, keys
 /// named in `style`); a refused request is logged (ERROR, one line per problem) and answered
-/// with the values in force, so the client sees the old values kept. An accepted one is queued
-/// in the Controller (Controller::setTunables), which applies it at the start of its next step;
-/// afterStep() then publishes one ParamChange per changed key on `controller/param_change`,
-/// stamped with that step. Callbacks must be serialised with the controller's steps (one
-/// callback queue, one spinner thread), as in mrac_controller_node.
+/// with the values in force and `refusal` naming each problem, so the client sees the old
+/// values kept and why (the .cfg has no min/max: the server would clamp what was asked). An
+/// accepted one is queued in the Controller (Controller::setTunables), which applies it at the
+/// start of its next step; afterStep() then publishes one ParamChange per changed key on
+/// `controller/param_change`, stamped with that step. Callbacks must be serialised with the
+/// controller's steps (one callback queue, one spinner thread), as in mrac_controller_node.
 class ControllerReconfigure {
  public:
   /// \param nh namespace of controller/param_change (the node's)
@@ -45,11 +47,15 @@ class ControllerReconfigure {
 
   /// \brief Requests refused so far.
   std::int64_t refused() const { return refused_; }
+  /// \brief The problems of the last request when it was refused, '' after an accepted one.
+  const std::string& lastRefusal() const { return last_refusal_; }
   /// \brief Changes applied so far (keys).
   std::int64_t applied() const { return applied_; }
 
  private:
   void callback(ControllerTuningConfig& config, uint32_t level);
+  /// \brief Count, log and answer a refused request with the values in force and `refusal`.
+  void refuse(const std::vector<std::string>& problems, ControllerTuningConfig* config);
 
   Controller* ctl_;
   KeyStyle style_;
@@ -57,6 +63,7 @@ class ControllerReconfigure {
   ControllerTunables in_effect_;  ///< what the controller runs with
   ControllerTunables accepted_;   ///< the last accepted request (queued or in effect)
   std::int64_t refused_ = 0, applied_ = 0;
+  std::string last_refusal_;
   boost::recursive_mutex server_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<ControllerTuningConfig>> server_;
 };
