@@ -97,7 +97,7 @@ install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS preadapt_sim preadapt_sweep preadapt_family preadapt_margins RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
-install(DIRECTORY config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
+install(DIRECTORY config launch params rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
   OPTIONAL)
 
 # Python tools (run with the system python3 that has the ROS modules): thin entry points; the

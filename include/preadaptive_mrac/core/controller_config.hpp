@@ -34,7 +34,7 @@ struct ControllerConfig {
   double hysteresis = 0.0;            ///< attention: recovery threshold is c_e - hysteresis [rad]
   bool freeze_when_saturated = true;  ///< no adaptation while the elevator is at a limit
   bool projection = false;          ///< smooth projection of theta_hat onto ||theta|| <= theta_max
-  double theta_max = 0.0;           ///< radius of Omega
+  double theta_max = 25.0;          ///< radius of Omega (used once projection is enabled)
   double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
   RobustConfig robust;              ///< pa_robust (optional section; defaults documented)
   L1Config l1;                      ///< mode l1 (optional section `controller.l1`; docs/l1.md)
@@ -56,7 +56,7 @@ struct ControllerTunables {
   double gamma = 10.0;              ///< controller.adaptation.gamma
   double gamma_pa = 10.0;           ///< controller.preadaptation.gamma_pa
   bool projection = false;          ///< controller.projection.enabled
-  double theta_max = 0.0;           ///< controller.projection.theta_max
+  double theta_max = 25.0;          ///< controller.projection.theta_max
   double projection_epsilon = 0.1;  ///< controller.projection.epsilon
   RobustConfig robust;              ///< controller.robust.*
 

@@ -8,6 +8,7 @@ import re
 
 import yaml
 
+from .. import params_table
 from ..paths import package_root
 
 
@@ -56,30 +57,9 @@ EXPECT_RUNS = [
         ALL,
         'overridden by scenario.launch (<param controller/sample_time> from arg dt)',
     ),
-    (
-        'controller',
-        r'controller\.attention\.confirm_samples',
-        ('drop',),
-        'optional (default 0, the paper)',
-    ),
-    (
-        'controller',
-        r'controller\.attention\.hysteresis',
-        ('drop',),
-        'optional (default 0, the paper)',
-    ),
-    (
-        'controller',
-        r'controller\.adaptation\.freeze_when_saturated',
-        ('drop',),
-        'optional (default true)',
-    ),
-    (
-        'controller',
-        r'controller\.robust\.[a-z_]+',
-        ('drop',),
-        'optional (each key of controller.robust has its documented default)',
-    ),
+] + [  # the controller's optional keys: from its table (params/controller.yaml)
+    ('controller', re.escape(key), ('drop',), 'optional (params/controller.yaml)')
+    for key in params_table.optional_keys('controller')
 ]
 
 

@@ -1,0 +1,117 @@
+"""The one declaration of each parameter (issue 21): params/<component>.yaml, one table per
+component, and what is derived from it: the rows of docs/parameters.md, the dynamic_reconfigure
+parameters (cfg/*.cfg read the table through this module's functions, copied into the .cfg's
+own reading since the .cfg runs before the package is importable), the optional keys of the
+mutation study. test/python/test_params_table.py fails when a derived place disagrees, and
+test_config's ParamTable tests hold the C++ reading and validation against the same table.
+
+A row: key (below the component's prefix), type, unit, presence (required | optional |
+in_section | section), default (the value of the shipped YAML and of the struct), check (min,
+max, min_open, max_open: what the validation accepts, for double and int), range (text, where
+no check can say it) or range_note (added after the check's text), tunable (the
+dynamic_reconfigure name, with group) and doc (one line). default_doc overrides the rendered
+default where a value cannot be shown (a matrix, a section)."""
+
+import os
+
+import yaml
+
+from .paths import package_root
+
+
+def table_path(component):
+    return os.path.join(package_root(), 'params', component + '.yaml')
+
+
+def load(component):
+    with open(table_path(component)) as f:
+        return yaml.safe_load(f)
+
+
+def number_text(v):
+    """1e6 as the docs write it: '1e6', 10.0 as '10', 0.05 as '0.05'."""
+    s = '%g' % v
+    return s.replace('e+0', 'e').replace('e+', 'e')
+
+
+def check_text(c):
+    lo, hi = c.get('min'), c.get('max')
+    if lo is not None and hi is not None:
+        return '%s%s, %s%s' % (
+            '(' if c.get('min_open') else '[',
+            number_text(lo),
+            number_text(hi),
+            ')' if c.get('max_open') else ']',
+        )
+    if lo is not None:
+        return '%s %s' % ('>' if c.get('min_open') else '>=', number_text(lo))
+    return '%s %s' % ('<' if c.get('max_open') else '<=', number_text(hi))
+
+
+def range_text(row, modes=None):
+    if row.get('range') == '@modes':
+        return ', '.join('`%s`' % m for m in modes)
+    if 'check' in row:
+        return check_text(row['check']) + row.get('range_note', '')
+    return row.get('range', '–')
+
+
+def value_text(v, typ):
+    if isinstance(v, bool):
+        return '`%s`' % ('true' if v else 'false')
+    if isinstance(v, str):
+        return '`%s`' % v
+    if typ == 'int':
+        return str(v)
+    return repr(float(v))
+
+
+def default_text(row):
+    if 'default_doc' in row:
+        return row['default_doc']
+    v = value_text(row['default'], row['type'])
+    return {
+        'required': '**required** (%s)',
+        'optional': 'optional (%s)',
+        'in_section': '**required** in the section (%s)',
+    }[row['presence']] % v
+
+
+def docs_row(prefix, row, modes=None):
+    """The row of docs/parameters.md."""
+    return '| `%s.%s` | %s | %s | %s | %s | %s |' % (
+        prefix,
+        row['key'],
+        row['type'],
+        row.get('unit', '–'),
+        default_text(row),
+        range_text(row, modes),
+        row['doc'],
+    )
+
+
+def cfg_description(prefix, row):
+    """The dynamic_reconfigure description: the key, its doc, unit and range."""
+    unit = row.get('unit', '–')
+    return '%s.%s: %s%s; %s' % (
+        prefix,
+        row['key'],
+        row['doc'],
+        '' if unit == '–' else ' [%s]' % unit,
+        range_text(row),
+    )
+
+
+def tunables(component):
+    t = load(component)
+    return [r for r in t['params'] if 'tunable' in r]
+
+
+def optional_keys(component):
+    """Dotted keys that may be left out (the mutation study's 'drop' runs)."""
+    t = load(component)
+    return [
+        '%s.%s' % (t['prefix'], r['key'])
+        for r in t['params']
+        if r['presence'] == 'optional' and r['type'] != 'section'
+    ]
