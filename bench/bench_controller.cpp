@@ -33,6 +33,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
@@ -208,6 +209,43 @@ void BM_PlantStep(benchmark::State& state, const Recording* rec) {
   }
 }
 
+// The plant simulator's step (ScenarioPlant::advance: actuator chain, effectiveness, gust, RK4,
+// next sample's inputs) on scenario 3 with the recorded commands, with the issue-20 parts off
+// (the paper's plant) and on, one by one and all together.
+enum class Parts { kOff, kLimits, kDelayLag, kEffectiveness, kTurbulence, kAll };
+
+void BM_ScenarioPlantStep(benchmark::State& state, const Recording* rec, Parts parts) {
+  PlantConfig plant = rec->cfg.plant;
+  Scenario scenario = rec->cfg.scenario;
+  const bool all = parts == Parts::kAll;
+  if (all || parts == Parts::kLimits) {
+    plant.actuator.enabled = true;
+    plant.actuator.max_deflection = 0.4363;
+    plant.actuator.max_rate = 1.0472;
+  }
+  if (all || parts == Parts::kDelayLag) {
+    plant.dynamics.delay = 0.05;
+    plant.dynamics.time_constant = 0.05;
+  }
+  if (all || parts == Parts::kEffectiveness)
+    scenario.effectiveness = {{20.0, 1.0}, {scenario.endTime(), 0.5}};
+  if (all || parts == Parts::kTurbulence) {
+    plant.turbulence.enabled = true;
+    plant.turbulence.sigma_w = 1.5;
+    plant.turbulence.length_scale = 533.4;
+  }
+  ScenarioPlant sim(plant, scenario, rec->cfg.controller.sample_time);
+  size_t k = 0;
+  for (auto _ : state) {
+    if (sim.done()) {
+      sim.reset();
+      k = 0;
+    }
+    sim.advance(rec->u[k++]);
+    benchmark::DoNotOptimize(sim.state().data());
+  }
+}
+
 void BM_ClosedLoopScenario3(benchmark::State& state, const Recording* rec) {
   Controller ctl(rec->cfg.plant, rec->cfg.controller);
   ClosedLoop loop(rec->cfg.plant, rec->cfg.scenario, &ctl);
@@ -267,6 +305,16 @@ int main(int argc, char** argv) {
   }
   benchmark::RegisterBenchmark("PlantStep/rk4", BM_PlantStep, recs.front().get())
       ->Unit(benchmark::kNanosecond);
+  const std::pair<const char*, Parts> parts[] = {{"off", Parts::kOff},
+                                                 {"limits", Parts::kLimits},
+                                                 {"delay_lag", Parts::kDelayLag},
+                                                 {"effectiveness", Parts::kEffectiveness},
+                                                 {"turbulence", Parts::kTurbulence},
+                                                 {"all", Parts::kAll}};
+  for (const auto& [name, p] : parts)
+    benchmark::RegisterBenchmark((std::string("ScenarioPlantStep/") + name).c_str(),
+                                 BM_ScenarioPlantStep, recs.front().get(), p)
+        ->Unit(benchmark::kNanosecond);
   for (const auto& rec : recs) {
     const std::string m = rec->mode;
     benchmark::RegisterBenchmark(("ClosedLoop/scenario3/" + m).c_str(), BM_ClosedLoopScenario3,

@@ -14,6 +14,7 @@ src/core/closed_loop.cpp:
 
 Usage:
     /usr/bin/python3 bench/prototype_rac.py [--config-dir DIR] [--cli-json FILE|-] [--quiet]
+        [--delay-steps D]
 
 With --cli-json FILE (or --cli-json - and the CLI's JSON piped on stdin:
     preadapt_sim --scenario 1 --mode rac --json | bench/prototype_rac.py --cli-json -)
@@ -22,6 +23,7 @@ per-window peak |e| (and IAE) from the CLI's. The last line of stdout is one JSO
 (windows, events, wall_time_s, ...).
 """
 import argparse
+import collections
 import json
 import os
 import sys
@@ -44,6 +46,13 @@ def main():
     ap.add_argument("--config-dir", default=os.path.join(HERE, "..", "config"))
     ap.add_argument("--cli-json", help="the CLI's --json output (a file, or - for stdin)")
     ap.add_argument("--quiet", action="store_true", help="only the JSON line")
+    ap.add_argument(
+        "--delay-steps",
+        type=int,
+        default=0,
+        help="servo transport delay in samples (docs/conditions.md: the command of step k acts "
+        "from k + D, 0 before); an independent check of preadapt_margins",
+    )
     args = ap.parse_args()
 
     plant = load(os.path.join(args.config_dir, "plant", "b747.yaml"))["plant"]
@@ -129,6 +138,7 @@ def main():
     max_u = 0.0
 
     steps = int(np.ceil(t_end / dt - 1e-9))
+    delayed = collections.deque([0.0] * args.delay_steps) if args.delay_steps > 0 else None
     for k in range(steps):
         t = k * dt
         r = r_at(t)
@@ -165,6 +175,11 @@ def main():
         max_u = max(max_u, abs(u))
 
         # plant
+        if delayed is not None:
+            delayed.append(u)
+            u = delayed.popleft()
+            if not np.all(np.isfinite(x)):
+                break
         x = rk4(f_plant, x, dt, theta, u, r)
 
     wall = time.perf_counter() - t0

@@ -38,6 +38,15 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/lockstep.test ARGS mode:=pa_learn shape:=nodelet cpu_affinity:=0 name_suffix:=_cpu0
     DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                  preadaptive_mrac_nodelets preadapt_sim)
+  # Issue 20: the plant with servo delay, lag and Dryden turbulence, in both shapes (pa_robust
+  # identifies the plant from the applied elevator): still the CLI's run, and the applied
+  # elevator, the command and the gust published equal the CLI's CSV columns.
+  foreach(shape nodelet process)
+    add_rostest(test/ros/lockstep.test ARGS mode:=pa_robust shape:=${shape} name_suffix:=_conditions
+      plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/conditions_plant.yaml
+      DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
+                   preadaptive_mrac_nodelets preadapt_sim)
+  endforeach()
 
   # Broken parameters: nodes exit non-zero naming the key and never publish a command.
   add_rostest(test/ros/broken_config.test

@@ -49,7 +49,7 @@ ActuatorChain::ActuatorChain(const ActuatorDynamics& dyn, const ActuatorLimits& 
   identity_ = delay_.steps() == 0 && !lag_.active() && !limits_.enabled;
 }
 
-double ActuatorChain::apply(double u) {
+double ActuatorChain::applyChain(double u) {
   const double v = lag_.step(delay_.push(u));
   const double a = limits_.apply(v, applied_, dt_);
   limited_ = a != v;

@@ -49,6 +49,10 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
     // Absent = 0 without a note in the defaults list: a run without the new keys must report
     // exactly what it reported before them.
     c.dynamics.delay = readNonNegative(r, a + ".delay");
+    // The delay line holds delay / dt commands: an hour is longer than any run.
+    if (c.dynamics.delay > kMaxDelay)
+      r.fail(a + ".delay", "must be at most " + formatNumber(kMaxDelay) + " s, got " +
+                               formatNumber(c.dynamics.delay));
     c.dynamics.time_constant = readNonNegative(r, a + ".time_constant");
   } else {
     r.noteDefault(prefix + ".actuator", "absent (no elevator limits)");

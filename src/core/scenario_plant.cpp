@@ -71,7 +71,7 @@ void ScenarioPlant::advance(double u) {
   // Without a schedule the applied deflection goes in as it is: the paper's bits.
   const double effect = has_lambda_ ? lambda_ * applied : applied;
   if (gust_.active()) {
-    disturbance_ = (gust_.value() * inv_airspeed_) * gust_col_;
+    disturbance_ = gustAlpha() * gust_col_;
     plant_.stepDisturbed(dt_, theta_, effect, r_, disturbance_);
     gust_.advance();
   } else {

@@ -267,6 +267,9 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   truth->step = k;
   truth->theta.assign(theta.data(), theta.data() + theta.size());
   truth->theta_scale = theta.size() > 0 ? theta[0] : 0.0;
+  truth->effectiveness = sim_.effectiveness();
+  truth->gust_w = sim_.gust();
+  truth->gust_alpha = sim_.gustAlpha();
   truth_pub_.publish(PlantTruth::ConstPtr(truth));
 
   const auto state = boost::make_shared<PlantState>();
@@ -282,6 +285,7 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   state->theta_pitch = theta_pitch_;
   state->r = sim_.reference();
   state->elevator = applied_u_;
+  state->elevator_command = sim_.lastCommand();
   if (params_.clock == ClockMode::kLockstep) publish_wall_[static_cast<size_t>(k)] = wallNow();
   last_state_ = state;
   state_pub_.publish(last_state_);

@@ -74,6 +74,8 @@ int main(int argc, char** argv) {
     if (!max_eff.empty()) opt.max_effectiveness = positive("--max-effectiveness", max_eff);
     if (!eff_res.empty())
       opt.effectiveness_resolution = positive("--effectiveness-resolution", eff_res);
+    if (opt.max_delay > kMaxDelay)
+      throw cli::UsageError("--max-delay: must be at most " + formatNumber(kMaxDelay) + " s");
     if (!(opt.min_effectiveness < 1.0))
       throw cli::UsageError("--min-effectiveness: must be < 1, got " + min_eff);
     if (!(opt.max_effectiveness > 1.0 && opt.max_effectiveness <= 2.0))

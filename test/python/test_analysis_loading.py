@@ -107,3 +107,43 @@ class TestCsvRuns(unittest.TestCase):
 
 if __name__ == '__main__':
     unittest.main()
+
+
+class TestConditionColumns(unittest.TestCase):
+    """Issue 20: a CSV of a plant with conditions carries the applied elevator and the gust;
+    both are loaded and drawn (the elevator figure's applied line, a gust figure)."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix='pmrac_conditions_')
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def write(self, gust):
+        path = os.path.join(self.dir, 'cond_rac.csv')
+        with open(path, 'w') as f:
+            f.write(HEADER + ',u_applied,effectiveness,w_gust,plant_limited\n')
+            for i in range(501):
+                t = i * 0.01
+                row = [t, 0, 0.1, 0, 0, 0.1, 0, 0, 0, 0.2, 1, 1, 1, 1, 1, 1, 0]
+                row += [0.1 * (i > 5), 1, gust * ((i % 7) - 3), 0]
+                f.write(','.join('%g' % v for v in row) + '\n')
+        return path
+
+    def test_applied_elevator_and_gust_loaded_and_drawn(self):
+        from preadaptive_mrac.analysis import figures, metrics
+
+        (run,) = loading.load_runs(self.write(gust=0.5))
+        self.assertEqual(len(run.u_applied), 501)
+        self.assertEqual(run.u_applied[6], 0.1)
+        self.assertAlmostEqual(run.gust_w[0], -1.5)
+        m = metrics.run_metrics(run)
+        files = figures.write_figures(self.dir, [run], [m], None)
+        self.assertIn(os.path.join(self.dir, 'gust_cond_rac.png'), files)
+        for f in files:
+            self.assertTrue(os.path.getsize(f) > 0, f)
+
+    def test_still_air_has_no_gust_figure(self):
+        (run,) = loading.load_runs(self.write(gust=0.0))
+        self.assertIsNone(run.gust_w)
+        self.assertIsNotNone(run.u_applied)

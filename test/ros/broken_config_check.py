@@ -302,6 +302,38 @@ class BrokenConfigTest(unittest.TestCase):
             [ns + '/plant_sim/clock', ns + '/plant_sim/dt'],
         )
 
+    def test_broken_plant_conditions(self):
+        """Issue 20: negative delay and time constant, sigma_w < 0, an effectiveness out of
+        (0, 2] and a schedule going backwards: refused at once, each key named."""
+        ns = '/broken_conditions'
+        params = merged(
+            package_config('plant/b747.yaml'), package_config('scenarios/scenario1.yaml')
+        )
+        params['plant']['actuator']['delay'] = -0.01
+        params['plant']['actuator']['time_constant'] = -1.0
+        params['plant']['turbulence']['sigma_w'] = -1.0
+        params['scenario']['effectiveness'] = [
+            {'until': 30.0, 'value': 2.5},
+            {'until': 20.0, 'value': 1.0},
+            {'until': 60.0, 'value': 1.0},
+        ]
+        p = ns + '/plant_sim/'
+        self.assert_refused(
+            'plant_sim_node',
+            'plant_sim',
+            ns,
+            params,
+            'plant/state',
+            PlantState,
+            [
+                p + 'plant/actuator/delay',
+                p + 'plant/actuator/time_constant',
+                p + 'plant/turbulence/sigma_w',
+                p + 'scenario/effectiveness/0/value',
+                p + 'scenario/effectiveness/1/until',
+            ],
+        )
+
 
 if __name__ == '__main__':
     rostest.rosrun(PKG, 'broken_config', BrokenConfigTest, sys.argv)

@@ -44,6 +44,7 @@ struct Recorded {
   std::mutex m;
   std::uint64_t total = 0;
   std::vector<double> alpha, u, t;
+  std::vector<double> elevator, elevator_command, gust, effectiveness;  // issue 20
   std::vector<std::vector<double>> theta_hat;
   std::vector<double> e;
   std::vector<int> state_seen, cmd_seen, status_seen;
@@ -60,6 +61,10 @@ struct Recorded {
     alpha.assign(n, NAN);
     u.assign(n, NAN);
     t.assign(n, NAN);
+    elevator.assign(n, NAN);
+    elevator_command.assign(n, NAN);
+    gust.assign(n, NAN);
+    effectiveness.assign(n, NAN);
     e.assign(n, NAN);
     theta_hat.assign(n, {});
     state_seen.assign(n, 0);
@@ -149,8 +154,9 @@ class LockstepTest : public ::testing::Test {
     pnh.param<int>("seed", seed_, 1);
     pnh.param<double>("timeout", timeout_, 400.0);
     pnh.param<std::string>("weights_out", weights_out_, "");
+    pnh.param<std::string>("plant_config", plant_config_, "");
   }
-  std::string mode_, scenario_, weights_out_;
+  std::string mode_, scenario_, weights_out_, plant_config_;
   int seed_ = 1;
   double timeout_ = 400.0;
 };
@@ -168,6 +174,8 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
         if (m->step >= rec.total) return;
         rec.alpha[m->step] = m->alpha;
         rec.t[m->step] = m->t;
+        rec.elevator[m->step] = m->elevator;
+        rec.elevator_command[m->step] = m->elevator_command;
         rec.state_seen[m->step]++;
       },
       ros::VoidConstPtr(), hints);
@@ -194,9 +202,14 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
       ros::VoidConstPtr(), hints);
   ros::Subscriber s5 = nh.subscribe<pm::PlantTruth>(
       "plant/truth", 0,
-      [&rec](const pm::PlantTruth::ConstPtr&) {
+      [&rec](const pm::PlantTruth::ConstPtr& m) {
         std::lock_guard<std::mutex> l(rec.m);
         rec.truth_count++;
+        // Truth can overtake the first state (which sizes the record): only sized steps.
+        if (rec.sized && m->step < rec.total) {
+          rec.gust[m->step] = m->gust_w;
+          rec.effectiveness[m->step] = m->effectiveness;
+        }
       },
       ros::VoidConstPtr(), hints);
   ros::AsyncSpinner spinner(1);
@@ -244,7 +257,7 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   int rc = 0;
   const std::string cmd = std::string(PMRAC_SIM_BIN) + " --scenario " + scenario_ + " --mode " +
                           mode_ + " --seed " + std::to_string(seed_) + " --dt 0.001 --json --csv " +
-                          csv;
+                          csv + (plant_config_.empty() ? "" : " --plant " + plant_config_);
   const std::string out = runCommand(cmd, &rc);
   ASSERT_EQ(rc, 0) << cmd;
   const YAML::Node json = YAML::Load(lastLine(out));
@@ -280,6 +293,35 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   EXPECT_LE(max_t, 1e-12) << "t";
   std::printf("[lockstep %s] %zu steps; max |diff| alpha %.3g, theta_hat %.3g, u %.3g\n",
               mode_.c_str(), n, max_alpha, max_th, max_u);
+
+  // --- issue 20: a plant with conditions writes their columns; the published elevator
+  // (applied over the previous step), the command it was given and the gust equal them.
+  if (cols.count("u_applied")) {
+    double max_el = 0.0, max_cmd = 0.0, max_gust = 0.0, max_lambda = 0.0, gust_rms = 0.0;
+    int moved = 0;
+    for (size_t k = 0; k < n; ++k) {
+      const double applied = k == 0 ? 0.0 : cols.at("u_applied")[k - 1];
+      const double cmd = k == 0 ? 0.0 : cols.at("u")[k - 1];
+      max_el = std::max(max_el, std::abs(rec.elevator[k] - applied));
+      max_cmd = std::max(max_cmd, std::abs(rec.elevator_command[k] - cmd));
+      if (!std::isnan(rec.gust[k])) {
+        max_gust = std::max(max_gust, std::abs(rec.gust[k] - cols.at("w_gust")[k]));
+        max_lambda =
+            std::max(max_lambda, std::abs(rec.effectiveness[k] - cols.at("effectiveness")[k]));
+      }
+      gust_rms += cols.at("w_gust")[k] * cols.at("w_gust")[k];
+      moved += applied != cmd ? 1 : 0;
+    }
+    EXPECT_LE(max_el, 1e-12) << "elevator (applied)";
+    EXPECT_LE(max_cmd, 1e-12) << "elevator_command";
+    EXPECT_LE(max_gust, 1e-12) << "gust_w";
+    EXPECT_LE(max_lambda, 0.0) << "effectiveness";
+    // The conditions are on: the servo moves behind the command, and there is a gust.
+    EXPECT_GT(moved, static_cast<int>(n / 2));
+    EXPECT_GT(std::sqrt(gust_rms / static_cast<double>(n)), 0.1);
+    std::printf("[lockstep %s] conditions: max |diff| elevator %.3g, command %.3g, gust %.3g\n",
+                mode_.c_str(), max_el, max_cmd, max_gust);
+  }
 
   // --- events: count, type and time; pa_robust's decisions
   const YAML::Node ev = json["events"];

@@ -8,6 +8,8 @@ set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
 BIN=$BUILD/devel/lib/preadaptive_mrac
+# the batch tools may live in the workspace's bin/ instead
+[ -x "$BIN/preadapt_margins" ] || [ ! -x "$BUILD/devel/bin/preadapt_margins" ] || BIN=$BUILD/devel/bin
 for t in preadapt_sim preadapt_sweep preadapt_family preadapt_margins; do
   [ -x "$BIN/$t" ] || { echo "SKIPPED: conditions_cli: $BIN/$t not built"; exit 77; }
 done
@@ -51,6 +53,7 @@ scenario:
 YAML
 CASES=(
   "plant.actuator.delay=-0.01|plant.actuator.delay"
+  "plant.actuator.delay=1e9|plant.actuator.delay"
   "plant.actuator.time_constant=-1|plant.actuator.time_constant"
   "plant.turbulence.sigma_w=-1|plant.turbulence.sigma_w"
   "scenario.effectiveness=[{until: 100.0, value: 2.5}]|scenario.effectiveness.0.value"

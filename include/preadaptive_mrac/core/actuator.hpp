@@ -56,8 +56,14 @@ class ServoLag {
 class ActuatorChain {
  public:
   ActuatorChain(const ActuatorDynamics& dyn, const ActuatorLimits& limits, double dt);
-  /// \brief The elevator deflection [rad] held over this sample, for command u [rad].
-  double apply(double u);
+  /// \brief The elevator deflection [rad] held over this sample, for command u [rad]. The
+  /// paper's instant elevator (no delay, lag or limits) is answered here, inline: the plant's
+  /// step costs what it cost before the chain existed.
+  double apply(double u) {
+    if (!identity_) return applyChain(u);
+    applied_ = u;
+    return u;
+  }
   void reset();
   /// \brief The limits changed this sample's (delayed, lagged) signal.
   bool limited() const { return limited_; }
@@ -67,6 +73,7 @@ class ActuatorChain {
   bool identity() const { return identity_; }
 
  private:
+  double applyChain(double u);
   TransportDelay delay_;
   ServoLag lag_;
   ActuatorLimits limits_;

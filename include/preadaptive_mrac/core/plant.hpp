@@ -23,6 +23,9 @@ struct ActuatorLimits {
   double apply(double u, double u_prev, double dt) const;
 };
 
+/// \brief Largest plant.actuator.delay accepted [s] (the delay line's memory is delay / dt).
+constexpr double kMaxDelay = 3600.0;
+
 /// \brief Delay and lag of the elevator servo (keys plant.actuator.delay and
 /// plant.actuator.time_constant; 0 when absent, the paper's instant elevator).
 struct ActuatorDynamics {

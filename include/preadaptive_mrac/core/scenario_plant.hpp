@@ -42,6 +42,8 @@ class ScenarioPlant {
   double effectiveness() const { return lambda_; }
   /// \brief Vertical gust w_g [m/s] held over the coming step (0 without turbulence).
   double gust() const { return gust_.value(); }
+  /// \brief The angle-of-attack disturbance alpha_g = w_g / V [rad] of the coming step.
+  double gustAlpha() const { return gust_.value() * inv_airspeed_; }
   /// \brief Integrate [t_k, t_k + dt] with the elevator command u [rad] through the actuator
   /// chain.
   void advance(double u);

@@ -161,6 +161,19 @@ def _fill_from_bag(run, acc, path):
         th.append(v)
     run.theta = np.array(th, dtype=float)
 
+    # Issue 20: PlantState.elevator is what the plant applied over [t - dt, t]; shown beside
+    # the command when the plant says what it was commanded (bags recorded before the field
+    # existed have no elevator_command) and the two differ (delay, lag or limits on).
+    if ps and hasattr(ps[0][0], 'elevator_command') and dt:
+        applied = np.array([m.elevator for m, _ in ps], dtype=float)
+        commanded = np.array([m.elevator_command for m, _ in ps], dtype=float)
+        if np.any(applied != commanded):
+            run.t_applied, run.u_applied = run.t_alpha[1:] - dt, applied[1:]
+    if tr and hasattr(tr[0][0], 'gust_w'):
+        gust = np.array([m.gust_w for m, _ in tr], dtype=float)
+        if np.any(gust != 0.0):
+            run.t_gust, run.gust_w = run.t_theta, gust
+
     el = acc['elevator']
     if el:
         run.t_u = _msg_times(el, '%s/controller/elevator_cmd' % ns, run)

@@ -169,6 +169,15 @@ def plot_elevator(plt, run, m, path, xlim=None):
             label=r'$u_{ad} = -\hat\theta^T x$ (adaptive)',
             zorder=2,
         )
+    if run.u_applied is not None:
+        ax.plot(
+            run.t_applied,
+            run.u_applied,
+            color='tab:orange',
+            lw=1.1,
+            label='applied by the plant (after delay, lag, limits)',
+            zorder=4,
+        )
     _switch_lines(ax, m)
     _event_lines(ax, run)
     _param_change_lines(ax, run)
@@ -181,7 +190,26 @@ def plot_elevator(plt, run, m, path, xlim=None):
     ser = [(run.t_u, run.u)] + (
         [(run.t_u, run.u_bl), (run.t_u, run.u_ad)] if run.u_bl is not None else []
     )
+    if run.u_applied is not None:
+        ser.append((run.t_applied, run.u_applied))
     _ylim_to_xlim(ax, ser, xlim)
+    _xlim(ax, xlim)
+    _save(fig, path)
+    plt.close(fig)
+
+
+def plot_gust(plt, run, m, path, xlim=None):
+    """The Dryden vertical gust of a run with turbulence (docs/conditions.md)."""
+    fig, ax = plt.subplots(figsize=(11, 3.8))
+    ax.plot(run.t_gust, run.gust_w, color='tab:green', lw=0.9, label='$w_g$')
+    _switch_lines(ax, m)
+    ax.set_ylabel('vertical gust $w_g$ [m/s]')
+    ax.set_xlabel('time $t$ [s]')
+    ax.set_title(
+        "Dryden vertical gust: run '%s' (std %.3g m/s)" % (run.label, float(np.std(run.gust_w)))
+    )
+    _legend(ax)
+    _ylim_to_xlim(ax, [(run.t_gust, run.gust_w)], xlim)
     _xlim(ax, xlim)
     _save(fig, path)
     plt.close(fig)
@@ -278,6 +306,10 @@ def write_figures(out_dir, runs, metrics, comparison, c_e=0.005, xlim=None):
         ):
             p = os.path.join(out_dir, name)
             fn(plt, r, m, p, *args)
+            files.append(p)
+        if r.gust_w is not None:
+            p = os.path.join(out_dir, 'gust_%s.png' % s)
+            plot_gust(plt, r, m, p, xlim)
             files.append(p)
         if any(ev.get('decision') for ev in r.events):
             p = os.path.join(out_dir, 'decisions_%s.png' % s)

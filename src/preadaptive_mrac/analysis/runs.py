@@ -76,6 +76,9 @@ class Run:
       t_alpha, alpha                                 plant samples
       t_theta, theta (M x 3)                         true theta
       t_u, u, u_bl, u_ad (u_bl/u_ad may be None)     elevator command
+      t_applied, u_applied                           elevator applied by the plant (after the
+                                                     servo's delay, lag, limits), None without
+      t_gust, gust_w                                 Dryden vertical gust [m/s], None without
     events: list of dicts with keys type (one of EVENT_TYPES), t, e, e_dot,
       theta_hat_before, theta_hat_after, reset, cost, grad, learned, episodes (None where
       the source does not say), and pa_robust's verification: decision (one of DECISIONS,
@@ -97,6 +100,9 @@ class Run:
         self.t_theta = self.theta = None
         self.t_u = self.u = self.u_bl = self.u_ad = None
         self.u_source = ''
+        # issue 20: what the elevator did and the gust (None: the source has no conditions)
+        self.t_applied = self.u_applied = None
+        self.t_gust = self.gust_w = None
         self.summary = None  # the batch CLI's --json object, for a CSV input
         # dynamic_reconfigure changes (controller/param_change): dicts t, step, name,
         # old_value, new_value; drawn as markers on the time plots

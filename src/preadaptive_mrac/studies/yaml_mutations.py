@@ -35,9 +35,23 @@ EXPECT_RUNS = [
     ('plant', r'plant\.description', ALL, 'documentation only: never read'),
     (
         'plant',
-        r'plant\.operating_point\..*',
+        r'plant\.operating_point\.(h|m|Iy)',
         ALL,
         'documentation only (where A and B come from): never read',
+    ),
+    (
+        'plant',
+        r'plant\.operating_point\.U',
+        ('drop',),
+        'runs while plant.turbulence is off (the Dryden filter\'s airspeed V); not in the '
+        '"filled with defaults" line (issue 20: a run without the key reports what it did before)',
+    ),
+    (
+        'plant',
+        r'plant\.actuator\.(delay|time_constant)',
+        ('drop',),
+        'runs with 0 (the paper\'s instant elevator); not in the "filled with defaults" line '
+        '(issue 20: a run without the key reports byte for byte what it did before the key)',
     ),
     (
         'scenario',
