@@ -35,6 +35,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/mrac_law.cpp
   src/core/mode_registry.cpp
   src/core/controller.cpp
+  src/core/l1_law.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp
   src/core/identification_window.cpp

@@ -15,7 +15,7 @@ if(CATKIN_ENABLE_TESTING)
 
   # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle
-  # yardstick (like pa_learn_exact, it needs plant/truth).
+  # yardstick (like pa_learn_exact, it needs plant/truth), and l1 (docs/l1.md).
   add_executable(test_ros_lockstep test/ros/lockstep_equivalence_test.cpp)
   target_link_libraries(test_ros_lockstep preadaptive_mrac_ros ${GTEST_LIBRARIES} yaml-cpp)
   target_include_directories(test_ros_lockstep SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
@@ -28,7 +28,7 @@ if(CATKIN_ENABLE_TESTING)
   endif()
   # Both shapes: plant and controller as nodelets in one pmrac_manager, and as processes.
   foreach(shape nodelet process)
-    foreach(mode rac pa_learn pa_learn_exact pa_robust oracle)
+    foreach(mode rac pa_learn pa_learn_exact pa_robust oracle l1)
       add_rostest(test/ros/lockstep.test ARGS mode:=${mode} shape:=${shape}
         DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                      preadaptive_mrac_nodelets preadapt_sim)

@@ -44,6 +44,7 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
     r.noteDefault(p + ".projection", "absent (no projection)");
   }
   c.robust = RobustConfig::read(r, p + ".robust");
+  c.l1 = L1Config::read(r, p + ".l1");
   c.validate(r, n, p);
   return c;
 }
@@ -83,6 +84,7 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
              "lies outside Omega (norm " + formatNumber(theta_hat0.norm()) + " > theta_max)");
   }
   if (r.has(p + ".robust")) robust.validate(r, p + ".robust");
+  if (r.has(p + ".l1")) l1.validate(r, p + ".l1", sample_time);
   if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
     if ((Q - Q.transpose()).norm() > 1e-12 * std::max(1.0, Q.norm()))
       r.fail(p + ".lqr.Q", "must be symmetric");

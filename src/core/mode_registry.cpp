@@ -1,5 +1,6 @@
 #include "preadaptive_mrac/core/mode_registry.hpp"
 
+#include "preadaptive_mrac/core/l1_law.hpp"
 #include "preadaptive_mrac/core/mrac_law.hpp"
 #include "preadaptive_mrac/core/oracle_preadaptation.hpp"
 #include "preadaptive_mrac/core/paper_preadaptation.hpp"
@@ -36,6 +37,10 @@ const std::vector<ModeEntry>& modeRegistry() {
        makeMracLaw, makeRobustPreadaptation},
       {"oracle", "yardstick: theta_hat := the true theta at each switch (simulation only)",
        makeMracLaw, makeOraclePreadaptation},
+      {"l1",
+       "L1 adaptive control: state predictor, fast projection-based adaptation, low-pass filtered "
+       "adaptive term (docs/l1.md); attention reported as in rac, theta_hat never reset",
+       makeL1Law, makePaper<P::kRac>},
   };
   return kModes;
 }

@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
     cli::RunOptionText text;
     std::string mode, seed, bound, max_delay, delay_res, min_eff, max_eff, eff_res;
     cli::addRunOptions(app, &req, &text, true);
-    cli::addText(app, "--mode", &mode, "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle");
+    cli::addText(app, "--mode", &mode,
+                 "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle | l1");
     cli::addText(app, "--seed", &seed, "seed of the network's initial weights");
     cli::addText(app, "--bound", &bound, "peak |e| bound of every window [rad] (default 0.2)");
     cli::addText(app, "--max-delay", &max_delay, "top of the delay interval [s] (default 2.0)");

@@ -18,6 +18,7 @@ class TestGuessMode(unittest.TestCase):
             's1_rac.csv': 'rac',
             'oracle_run.csv': 'oracle',
             'pa.csv': 'pa',
+            'scenario1_l1.csv': 'l1',
         }
         for name, mode in cases.items():
             self.assertEqual(runs._guess_mode(name), mode, name)
@@ -25,6 +26,7 @@ class TestGuessMode(unittest.TestCase):
     def test_none_or_two_modes_give_none(self):
         self.assertIsNone(runs._guess_mode('scenario1.csv'))
         self.assertIsNone(runs._guess_mode('rac_vs_pa_learn.csv'))
+        self.assertIsNone(runs._guess_mode('l1_vs_rac.csv'))
 
 
 class TestDecisions(unittest.TestCase):

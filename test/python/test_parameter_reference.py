@@ -73,7 +73,12 @@ def node_keys():
 def config_code_suffixes():
     """The dotted suffixes the config readers put after a section prefix (".lqr.Q", ".std")."""
     out = set()
-    for rel in ('src/core/controller.cpp', 'src/core/plant.cpp', 'src/core/scenario.cpp'):
+    for rel in (
+        'src/core/controller.cpp',
+        'src/core/controller_config.cpp',
+        'src/core/plant.cpp',
+        'src/core/scenario.cpp',
+    ):
         out |= set(re.findall(r'"\.([a-zA-Z_][\w.]*)"', read(rel)))
     return out
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "preadaptive_mrac/core/l1_law.hpp"
 #include "preadaptive_mrac/core/robust_config.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
@@ -36,6 +37,7 @@ struct ControllerConfig {
   double theta_max = 25.0;          ///< radius of Omega (used once projection is enabled)
   double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
   RobustConfig robust;              ///< pa_robust (optional section; defaults documented)
+  L1Config l1;                      ///< mode l1 (optional section `controller.l1`; docs/l1.md)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   static ControllerConfig read(ParamReader& r, int n, const std::string& prefix = "controller");

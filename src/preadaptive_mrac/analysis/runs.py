@@ -10,7 +10,7 @@ EVENT_TYPES = ('onset', 'recovered', 'ignored_onset', 'ignored_recovery', 'decis
 # What a pa_robust verification chose (AttentionEvent.decision / decision_code 1..4).
 DECISIONS = ('keep', 'fit', 'memory', 'network')
 DECISION_FIELDS = ('decision', 'chosen', 'candidates', 'score', 'score_keep')
-MODES = ('pa_learn_exact', 'pa_learn', 'pa_robust', 'oracle', 'pa', 'rac')
+MODES = ('pa_learn_exact', 'pa_learn', 'pa_robust', 'oracle', 'pa', 'rac', 'l1')
 MODE_TEXT = {
     'rac': 'regular adaptive control',
     'pa': 'preadaptation, no learning',
@@ -18,6 +18,7 @@ MODE_TEXT = {
     'pa_learn_exact': 'preadaptation + learning (exact gradient)',
     'pa_robust': 'robust preadaptation (residual trigger, regime memory, verification)',
     'oracle': 'oracle yardstick: theta_hat := true theta at each switch',
+    'l1': 'L1 adaptive control (predictor, fast adaptation, filtered adaptive term)',
 }
 
 # Relative topic names and message type base names the nodes publish (msg/*.msg).
@@ -128,6 +129,7 @@ def _guess_mode(name):
             ('oracle', 'oracle'),
             ('pa', 'pa'),
             ('rac', 'rac'),
+            ('l1', 'l1'),
         )
         if tok in toks
     ]

@@ -17,7 +17,7 @@ import numpy as np  # noqa: E402
 from ..paths import package_root  # noqa: E402
 
 ROOT = package_root()
-MODES = ["rac", "pa", "pa_learn", "pa_learn_exact", "pa_robust", "oracle"]
+MODES = ["rac", "pa", "pa_learn", "pa_learn_exact", "pa_robust", "oracle", "l1"]
 COLORS = {
     "rac": "0.45",
     "pa": "tab:orange",
@@ -25,6 +25,7 @@ COLORS = {
     "pa_learn_exact": "tab:purple",
     "pa_robust": "tab:green",
     "oracle": "tab:blue",
+    "l1": "tab:brown",
 }
 DECISION_STYLE = {
     "keep": ("o", "0.5"),
