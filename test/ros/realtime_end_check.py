@@ -53,7 +53,13 @@ class RealtimeEndTest(unittest.TestCase):
         after = cmds[at + 1 :]
         self.assertEqual(after[:10], [], "%d command(s) after the last state's answer" % len(after))
         answers = [s for s, stale in cmds if not stale]
-        self.assertEqual(sorted(set(answers)), sorted(set(states)), "an answer per state")
+        # The plant waits for this test's plant/state subscription only; the command
+        # subscription to the controller may connect a few states later on a loaded machine,
+        # so answers are compared from the first one heard (it must come early).
+        first = min(answers)
+        self.assertLess(first, 100, "the first answer heard is of step %d" % first)
+        heard = [s for s in states if s >= first]
+        self.assertEqual(sorted(set(answers)), sorted(set(heard)), "an answer per state")
         rospy.loginfo(
             "realtime_end: %d states, %d commands (%d stale during the run), none after step %d",
             len(states),
