@@ -2,6 +2,7 @@
 
 #include <tf2_msgs/TFMessage.h>
 
+#include <algorithm>
 #include <boost/make_shared.hpp>
 #include <cstring>
 #include <ctime>
@@ -143,6 +144,18 @@ void BagRecorder::callback(const std::string& topic,
                                       ? msg.instantiate<PlantState>()
                                       : PlantState::ConstPtr();
   record(topic, t, *ev.getConstMessage(), ev.getConnectionHeaderPtr(), st.get());
+  // The stepped topics of typedCallback (their step is only known deserialized).
+  const std::string& type = msg.getDataType();
+  if (type == ros::message_traits::datatype<ElevatorCommand>()) {
+    const auto m = msg.instantiate<ElevatorCommand>();
+    reportStepProgress(topic, m->header.stamp, m->step);
+  } else if (type == ros::message_traits::datatype<AdaptationStatus>()) {
+    const auto m = msg.instantiate<AdaptationStatus>();
+    reportStepProgress(topic, m->header.stamp, m->step);
+  } else if (type == ros::message_traits::datatype<PlantTruth>()) {
+    const auto m = msg.instantiate<PlantTruth>();
+    reportStepProgress(topic, m->header.stamp, m->step);
+  }
 }
 
 template <class M>
@@ -166,6 +179,12 @@ void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEven
     if (!msg.transforms.empty()) t = msg.transforms.front().header.stamp;
   if constexpr (std::is_same<M, PlantState>::value) state = &msg;
   record(topic, t, msg, ev.getConnectionHeaderPtr(), state);
+  // The controller's and the truth's messages come on connections of their own and can be
+  // far behind the states (measured under load: every state written, 25481 of 60000
+  // statuses): their progress too, so a reader can tell when every step of them is in.
+  if constexpr (std::is_same<M, PlantTruth>::value || std::is_same<M, ElevatorCommand>::value ||
+                std::is_same<M, AdaptationStatus>::value)
+    reportStepProgress(topic, msg.header.stamp, msg.step);
 }
 
 template <class M>
@@ -194,6 +213,7 @@ void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
 }
 
 void BagRecorder::reportProgress(const std::string& topic, const PlantState& st) {
+  total_steps_ = std::max(total_steps_, st.total_steps);
   const bool last = st.total_steps > 0 && st.step + 1 >= st.total_steps;
   if (!last && st.step % static_cast<std::uint64_t>(progress_every_) != 0) return;
   const auto p = boost::make_shared<RecorderProgress>();
@@ -201,6 +221,19 @@ void BagRecorder::reportProgress(const std::string& topic, const PlantState& st)
   p->topic = topic;
   p->step = st.step;
   p->total_steps = st.total_steps;
+  progress_pub_.publish(RecorderProgress::ConstPtr(p));
+}
+
+void BagRecorder::reportStepProgress(const std::string& topic, const ros::Time& stamp,
+                                     std::uint64_t step) {
+  // The scenario's length from the states (one plant's run; 0 before the first state).
+  const bool last = total_steps_ > 0 && step + 1 >= total_steps_;
+  if (!last && step % static_cast<std::uint64_t>(progress_every_) != 0) return;
+  const auto p = boost::make_shared<RecorderProgress>();
+  p->header.stamp = stamp;
+  p->topic = topic;
+  p->step = step;
+  p->total_steps = total_steps_;
   progress_pub_.publish(RecorderProgress::ConstPtr(p));
 }
 

@@ -49,7 +49,9 @@ struct BagRecorderParams {
 ///
 /// For each PlantState topic it publishes ~progress (RecorderProgress) every
 /// ~progress_every steps and at the last step, once the state is in the bag: a lockstep plant
-/// waits on it instead of outrunning the recorder.
+/// waits on it instead of outrunning the recorder. Likewise for each PlantTruth,
+/// ElevatorCommand and AdaptationStatus topic (their step; last: the states' total_steps), so
+/// a reader knows when those, which arrive on connections of their own, are in the bag too.
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
@@ -79,6 +81,9 @@ class BagRecorder {
   void record(const std::string& topic, ros::Time t, const M& msg,
               const boost::shared_ptr<ros::M_string>& connection_header, const PlantState* state);
   void reportProgress(const std::string& topic, const PlantState& st);
+  /// \brief Progress of a stepped topic that is not a PlantState (every ~progress_every steps
+  /// and at the states' last step).
+  void reportStepProgress(const std::string& topic, const ros::Time& stamp, std::uint64_t step);
   /// \brief Whether a message type's definition starts with `Header header` (cached).
   bool hasHeader(const topic_tools::ShapeShifter& msg);
   /// \brief Open bag number `index_` as `<path>.active` (like rosbag record), so a crash
@@ -102,6 +107,7 @@ class BagRecorder {
   std::vector<ros::Subscriber> subs_;
   ros::Publisher progress_pub_;
   int progress_every_ = 100;
+  std::uint64_t total_steps_ = 0;  ///< the largest total_steps of the states recorded
   std::map<std::string, std::uint64_t> counts_;
   /// PlantState topics recorded, and whether each reached its plant's last step: a bag
   /// closed before that (a launch ended by another node's refusal, an interrupted run) is
