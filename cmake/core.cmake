@@ -11,14 +11,17 @@ macro(pmrac_library name)
   add_library(${name} $<TARGET_OBJECTS:${name}_objects>)
   add_library(${name}_static STATIC $<TARGET_OBJECTS:${name}_objects>)
   foreach(t ${name}_objects ${name} ${name}_static)
-    target_include_directories(${t} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+    target_include_directories(${t} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+                               $<BUILD_INTERFACE:${PMRAC_GENERATED_INCLUDE}>)
     target_link_libraries(${t} PUBLIC Eigen3::Eigen)
   endforeach()
+  add_dependencies(${name}_objects pmrac_params_headers)
 endmacro()
 
 # The core: Eigen + STL only. Nothing here may include a ROS header.
 pmrac_library(preadaptive_mrac_core
   src/core/params.cpp
+  src/core/param_table.cpp
   src/core/solvers.cpp
   src/core/plant.cpp
   src/core/actuator.cpp
@@ -35,6 +38,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/mrac_law.cpp
   src/core/mode_registry.cpp
   src/core/controller.cpp
+  src/core/l1_config.cpp
   src/core/l1_law.cpp
   src/core/paper_preadaptation.cpp
   src/core/oracle_preadaptation.cpp

@@ -3,54 +3,11 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/controller_config.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/mode_context.hpp"
 #include "preadaptive_mrac/core/plant.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
-
-namespace {
-// The real-valued keys of controller.l1: one table for reading and for the range checks.
-struct L1Key {
-  const char* key;
-  double L1Config::*member;
-  double lo, hi;  // allowed range (lo open)
-};
-constexpr L1Key kL1Keys[] = {
-    {"gamma", &L1Config::gamma, 0.0, 1e9},
-    {"bandwidth", &L1Config::bandwidth, 0.0, 1e6},
-    {"theta_max", &L1Config::theta_max, 0.0, 1e6},
-    {"epsilon", &L1Config::projection_epsilon, 0.0, 1.0},
-};
-}  // namespace
-
-L1Config L1Config::read(ParamReader& r, const std::string& p) {
-  L1Config c;
-  if (!r.has(p)) {  // optional section: the documented defaults
-    r.noteDefault(p, "absent (the L1 law's documented defaults)");
-    return c;
-  }
-  for (const L1Key& k : kL1Keys) c.*(k.member) = r.getDouble(p + "." + k.key, c.*(k.member));
-  return c;
-}
-
-void L1Config::validate(ParamReader& r, const std::string& p, double sample_time) const {
-  for (const L1Key& k : kL1Keys) {
-    const std::string key = p + "." + k.key;
-    const double v = this->*(k.member);
-    if (r.has(key) && r.failed(key)) continue;
-    if (!(v > k.lo && v <= k.hi))
-      r.fail(key, "must be in (" + formatNumber(k.lo) + ", " + formatNumber(k.hi) + "], got " +
-                      formatNumber(v));
-  }
-  // A sampled filter cannot pass more than the Nyquist frequency; past it exp(-omega dt) is
-  // so small that C(s) is no filter at all.
-  const std::string bw = p + ".bandwidth";
-  if (sample_time > 0.0 && !r.failed(bw) && bandwidth > 0.0 && !(bandwidth * sample_time < M_PI))
-    r.fail(bw, "must be below pi / sample_time (" + formatNumber(M_PI / sample_time) +
-                   " rad/s), got " + formatNumber(bandwidth));
-}
 
 LowPassFilter::LowPassFilter(double omega, double dt) : a_(std::exp(-omega * dt)) {}
 

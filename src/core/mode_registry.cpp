@@ -4,6 +4,7 @@
 #include "preadaptive_mrac/core/mrac_law.hpp"
 #include "preadaptive_mrac/core/oracle_preadaptation.hpp"
 #include "preadaptive_mrac/core/paper_preadaptation.hpp"
+#include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/robust_preadaptation.hpp"
 
 namespace preadaptive_mrac {
@@ -49,6 +50,11 @@ const ModeEntry* findMode(const std::string& name) {
   for (const ModeEntry& m : modeRegistry())
     if (name == m.name) return &m;
   return nullptr;
+}
+
+void checkModeName(ParamReader& r, const std::string& key, const std::string& name) {
+  if (r.usable(key) && findMode(name) == nullptr)
+    r.fail(key, "expected one of " + modeNames(", ") + ", got '" + name + "'");
 }
 
 std::string modeNames(const std::string& sep, const std::string& last_sep) {

@@ -1,6 +1,7 @@
 #include "preadaptive_mrac/core/tunables.hpp"
 
 #include <cmath>
+#include <type_traits>
 
 namespace preadaptive_mrac {
 
@@ -13,37 +14,20 @@ struct Typed {
   char kind;
 };
 
+template <class T>
+constexpr char kindOf() {
+  return std::is_same<T, bool>::value ? 'b' : std::is_same<T, int>::value ? 'i' : 'd';
+}
+
+// The tunable rows of the tables (generated forEachTunable), in the tables' order.
 std::vector<Typed> typedEntries(const ControllerTunables& t) {
-  const RobustConfig& r = t.robust;
-  return {
-      {"attention.c_e", t.c_e, 'd'},
-      {"attention.c_ed", t.c_ed, 'd'},
-      {"attention.confirm_samples", static_cast<double>(t.confirm_samples), 'i'},
-      {"attention.hysteresis", t.hysteresis, 'd'},
-      {"adaptation.gamma", t.gamma, 'd'},
-      {"preadaptation.gamma_pa", t.gamma_pa, 'd'},
-      {"projection.enabled", t.projection ? 1.0 : 0.0, 'b'},
-      {"projection.theta_max", t.theta_max, 'd'},
-      {"projection.epsilon", t.projection_epsilon, 'd'},
-      {"robust.detect_window", r.detect_window, 'd'},
-      {"robust.long_window", r.long_window, 'd'},
-      {"robust.chunk", r.chunk, 'd'},
-      {"robust.threshold", r.threshold, 'd'},
-      {"robust.noise_factor", r.noise_factor, 'd'},
-      {"robust.noise_time", r.noise_time, 'd'},
-      {"robust.verify_time", r.verify_time, 'd'},
-      {"robust.margin", r.margin, 'd'},
-      {"robust.significance", r.significance, 'd'},
-      {"robust.prior_std", r.prior_std, 'd'},
-      {"robust.ridge", r.ridge, 'd'},
-      {"robust.cl_gain", r.cl_gain, 'd'},
-      {"robust.memory_size", static_cast<double>(r.memory_size), 'i'},
-      {"robust.merge_tolerance", r.merge_tolerance, 'd'},
-      {"robust.settle_time", r.settle_time, 'd'},
-      {"robust.quiet_time", r.quiet_time, 'd'},
-      {"robust.use_network", r.use_network ? 1.0 : 0.0, 'b'},
-      {"robust.network_rate", r.network_rate, 'd'},
-  };
+  std::vector<Typed> out;
+  forEachTunable(
+      [&](const char* key, const char*, const auto& v) {
+        out.push_back({key, static_cast<double>(v), kindOf<std::decay_t<decltype(v)>>()});
+      },
+      t);
+  return out;
 }
 
 }  // namespace

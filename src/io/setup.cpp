@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "preadaptive_mrac/core/mode_registry.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 namespace preadaptive_mrac {
@@ -63,6 +64,7 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   }
   if (sections.controller) {
     rc.controller = ControllerConfig::read(r, n, "controller");
+    checkModeName(r, "controller.mode", rc.controller.mode);
     r.rejectUnusedUnder("controller");
   }
   if (sections.scenario) {

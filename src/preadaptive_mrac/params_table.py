@@ -10,7 +10,16 @@ in_section | section), default (the value of the shipped YAML and of the struct)
 max, min_open, max_open: what the validation accepts, for double and int), range (text, where
 no check can say it) or range_note (added after the check's text), tunable (the
 dynamic_reconfigure name, with group) and doc (one line). default_doc overrides the rendered
-default where a value cannot be shown (a matrix, a section)."""
+default where a value cannot be shown (a matrix, a section).
+
+For the generated C++ (params_codegen.py): the table's `struct` names the generated struct of
+its values; a row's `field` its member (default: the key's last part), `cpp_type` a member type
+other than the type's own, `read: custom` a value the component's read() reads itself (a
+string checked against the registry, a matrix or vector sized by the plant), and a section row's
+`absent_note` what the start-up line says when the section is left out. A section row with
+`table` is a part's own table (params/<table>.yaml, with `part_of` and its own `absent_note`:
+pa_robust's, the L1 law's): load() expands its rows under the section's key, so every derived
+place sees one list."""
 
 import os
 
@@ -23,9 +32,37 @@ def table_path(component):
     return os.path.join(package_root(), 'params', component + '.yaml')
 
 
-def load(component):
+def components():
+    """Every table's component name (params/*.yaml), sorted."""
+    folder = os.path.join(package_root(), 'params')
+    return sorted(f[: -len('.yaml')] for f in os.listdir(folder) if f.endswith('.yaml'))
+
+
+def load_own(component):
+    """The table as written: a section row with `table` is not expanded."""
     with open(table_path(component)) as f:
         return yaml.safe_load(f)
+
+
+def load(component):
+    """The table with every part's table expanded under its section row's key."""
+    t = load_own(component)
+    rows = []
+    for row in t['params']:
+        rows.append(row)
+        if 'table' in row:
+            for sub in load(row['table'])['params']:
+                rows.append(dict(sub, key='%s.%s' % (row['key'], sub['key'])))
+    return dict(t, params=rows)
+
+
+def table_files(component):
+    """The files a component's table is made of (its own and its parts'), for build rules."""
+    files = [table_path(component)]
+    for row in load_own(component)['params']:
+        if 'table' in row:
+            files += table_files(row['table'])
+    return files
 
 
 def number_text(v):
@@ -91,12 +128,13 @@ def docs_row(prefix, row, modes=None):
 
 
 def cfg_description(prefix, row):
-    """The dynamic_reconfigure description: the key, its doc, unit and range."""
+    """The dynamic_reconfigure description: the key, its doc, unit and range (the doc's
+    Markdown escape of | dropped: the generated C++ header would read it as an escape)."""
     unit = row.get('unit', '–')
     return '%s.%s: %s%s; %s' % (
         prefix,
         row['key'],
-        row['doc'],
+        row['doc'].replace('\\|', '|'),
         '' if unit == '–' else ' [%s]' % unit,
         range_text(row),
     )

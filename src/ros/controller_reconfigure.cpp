@@ -5,68 +5,16 @@
 namespace preadaptive_mrac {
 namespace ros1 {
 
+// The copies are generated from the tables' tunable rows (params/*.yaml, forEachTunable's
+// neighbours in preadaptive_mrac/params/controller_params.hpp): the reconfigure names are theirs.
 ControllerTunables fromReconfigure(const ControllerTuningConfig& c) {
   ControllerTunables t;
-  t.c_e = c.c_e;
-  t.c_ed = c.c_ed;
-  t.confirm_samples = c.confirm_samples;
-  t.hysteresis = c.hysteresis;
-  t.gamma = c.gamma;
-  t.gamma_pa = c.gamma_pa;
-  t.projection = c.projection_enabled;
-  t.theta_max = c.theta_max;
-  t.projection_epsilon = c.projection_epsilon;
-  RobustConfig& r = t.robust;
-  r.detect_window = c.robust_detect_window;
-  r.long_window = c.robust_long_window;
-  r.chunk = c.robust_chunk;
-  r.threshold = c.robust_threshold;
-  r.noise_factor = c.robust_noise_factor;
-  r.noise_time = c.robust_noise_time;
-  r.verify_time = c.robust_verify_time;
-  r.margin = c.robust_margin;
-  r.significance = c.robust_significance;
-  r.prior_std = c.robust_prior_std;
-  r.ridge = c.robust_ridge;
-  r.cl_gain = c.robust_cl_gain;
-  r.memory_size = c.robust_memory_size;
-  r.merge_tolerance = c.robust_merge_tolerance;
-  r.settle_time = c.robust_settle_time;
-  r.quiet_time = c.robust_quiet_time;
-  r.use_network = c.robust_use_network;
-  r.network_rate = c.robust_network_rate;
+  tunablesFromReconfigure(c, &t);
   return t;
 }
 
 void toReconfigure(const ControllerTunables& t, ControllerTuningConfig* c) {
-  c->c_e = t.c_e;
-  c->c_ed = t.c_ed;
-  c->confirm_samples = t.confirm_samples;
-  c->hysteresis = t.hysteresis;
-  c->gamma = t.gamma;
-  c->gamma_pa = t.gamma_pa;
-  c->projection_enabled = t.projection;
-  c->theta_max = t.theta_max;
-  c->projection_epsilon = t.projection_epsilon;
-  const RobustConfig& r = t.robust;
-  c->robust_detect_window = r.detect_window;
-  c->robust_long_window = r.long_window;
-  c->robust_chunk = r.chunk;
-  c->robust_threshold = r.threshold;
-  c->robust_noise_factor = r.noise_factor;
-  c->robust_noise_time = r.noise_time;
-  c->robust_verify_time = r.verify_time;
-  c->robust_margin = r.margin;
-  c->robust_significance = r.significance;
-  c->robust_prior_std = r.prior_std;
-  c->robust_ridge = r.ridge;
-  c->robust_cl_gain = r.cl_gain;
-  c->robust_memory_size = r.memory_size;
-  c->robust_merge_tolerance = r.merge_tolerance;
-  c->robust_settle_time = r.settle_time;
-  c->robust_quiet_time = r.quiet_time;
-  c->robust_use_network = r.use_network;
-  c->robust_network_rate = r.network_rate;
+  tunablesToReconfigure(t, c);
 }
 
 ControllerReconfigure::ControllerReconfigure(const ros::NodeHandle& nh,

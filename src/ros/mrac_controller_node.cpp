@@ -173,8 +173,7 @@ void MracControllerNode::subscribe() {
     ROS_WARN(
         "mode %s uses the SIMULATION TRUTH theta from %s (%s; only a simulator has it); "
         "each state waits for the truth of the same step",
-        ctl_.mode().c_str(), truth_sub_.getTopic().c_str(),
-        ctl_.mode() == "oracle" ? "theta_hat := theta at each switch" : "the learning gradient");
+        ctl_.mode().c_str(), truth_sub_.getTopic().c_str(), ctl_.truthUse().c_str());
   }
   if (input_guard_.enabled())
     ROS_INFO("taking %s%s only from %s (~accept_from)", state_topic_.c_str(),
@@ -474,9 +473,9 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
 
   if (out.event && out.event->learned && params_.save_every_episode)
     saveWeights("after a learning episode");
-  else if (out.event && out.event->type == Event::Type::kRecovered && ctl_.mode() == "pa_robust" &&
+  else if (out.event && out.event->type == Event::Type::kRecovered && ctl_.keepsAtRecovery() &&
            params_.save_every_episode)
-    saveWeights("after a recovery (the regimes pa_robust remembers)");
+    saveWeights(("after a recovery (mode " + ctl_.mode() + " keeps what it learned)").c_str());
 }
 
 void MracControllerNode::answerRejected(const PlantState& msg, const std::string& why) {

@@ -1,5 +1,6 @@
-// params/controller.yaml (one declaration per parameter, issue 21) against the C++ reading and
-// validation: the struct defaults of every key that may be left out, the tunables, the ranges.
+// params/controller.yaml with its parts' tables (robust.yaml, l1.yaml; one declaration per
+// parameter, issue 21) against the C++ generated from them and the reading and validation
+// built on it: the defaults of every key that may be left out, the tunables, the ranges.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,13 +17,32 @@
 namespace preadaptive_mrac {
 namespace {
 
-const ParamValue& table() {
-  // The source tree's table (cmake/tests.cmake), wherever the config folder is found.
-  static const ParamValue t = loadYamlFile(std::string(PMRAC_PARAMS_DIR) + "/controller.yaml");
-  return t;
+ParamValue loadTable(const std::string& component) {
+  // The source tree's tables (cmake/tests.cmake), wherever the config folder is found.
+  return loadYamlFile(std::string(PMRAC_PARAMS_DIR) + "/" + component + ".yaml");
 }
 
-const std::vector<ParamValue>& rows() { return table().find("params")->list(); }
+// The controller's rows with each part's table expanded under its section's key, as
+// params_table.load() does for the Python side.
+const std::vector<ParamValue>& rows() {
+  static const std::vector<ParamValue> all = [] {
+    std::vector<ParamValue> out;
+    const ParamValue own = loadTable("controller");
+    for (const ParamValue& row : own.find("params")->list()) {
+      out.push_back(row);
+      const ParamValue* part = row.find("table");
+      if (part == nullptr) continue;
+      const ParamValue sub_table = loadTable(part->asString());
+      for (ParamValue sub : sub_table.find("params")->list()) {
+        sub.setPath("key", ParamValue::makeString(row.find("key")->asString() + "." +
+                                                  sub.find("key")->asString()));
+        out.push_back(sub);
+      }
+    }
+    return out;
+  }();
+  return all;
+}
 
 std::string field(const ParamValue& row, const char* name) {
   const ParamValue* v = row.find(name);

@@ -106,6 +106,10 @@ class Controller {
   bool tunablesPending() const { return pending_.has_value(); }
   /// \brief True in pa_learn_exact and oracle, which need StepInput::theta_true.
   bool needsTruth() const { return strategy_->needsTruth(); }
+  /// \brief What the mode uses the true theta for ("" when it does not).
+  std::string truthUse() const { return strategy_->truthUse(); }
+  /// \brief True when the mode's recoveries change what it keeps (save the weights then).
+  bool keepsAtRecovery() const { return strategy_->keepsAtRecovery(); }
 
  private:
   ControllerConfig cfg_;

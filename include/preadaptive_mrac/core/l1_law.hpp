@@ -12,27 +12,11 @@
 #include <string>
 
 #include "preadaptive_mrac/core/adaptive_law.hpp"
+#include "preadaptive_mrac/core/l1_config.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
 namespace preadaptive_mrac {
-
-class ParamReader;
-
-/// \brief Parameters of the L1 law (optional section `controller.l1`; docs/l1.md).
-struct L1Config {
-  double gamma = 1000.0;            ///< adaptation rate Gamma of the projection law [1/(s rad^2)]
-  double bandwidth = 150.0;         ///< omega of C(s) = omega / (s + omega) [rad/s]
-  double theta_max = 25.0;          ///< radius of the projection set Omega = {|theta| <= theta_max}
-  double projection_epsilon = 0.1;  ///< width of the projection's boundary layer, in (0, 1]
-
-  /// \brief Read the section at `prefix` (`controller.l1`); every key optional, an absent one
-  /// keeps the default above and is noted. Problems go to the reader, each naming its key.
-  static L1Config read(ParamReader& r, const std::string& prefix);
-  /// \brief Every problem of the values (signs, finiteness, Nyquist) into the reader.
-  /// `sample_time` [s] is the controller's dt: omega dt must stay below pi.
-  void validate(ParamReader& r, const std::string& prefix, double sample_time) const;
-};
 
 /// \brief First-order low-pass C(s) = omega / (s + omega) with unit DC gain, discretised
 /// exactly for an input held over each sample interval and known at its end:

@@ -18,6 +18,7 @@
 namespace preadaptive_mrac {
 
 class AdaptiveLaw;
+class ParamReader;
 class PreadaptationStrategy;
 
 /// \brief One registered mode.
@@ -32,6 +33,9 @@ struct ModeEntry {
 const std::vector<ModeEntry>& modeRegistry();
 /// \brief The entry named `name`, or null.
 const ModeEntry* findMode(const std::string& name);
+/// \brief A problem naming `key` when `name` (given there) is no registered mode: the
+/// check of `controller.mode`, made where the configuration meets the registry (the set-up).
+void checkModeName(ParamReader& r, const std::string& key, const std::string& name);
 /// \brief The names joined by `sep` ("rac, pa, ..."), the last two by `last_sep` when given
 /// ("rac, pa, ... or oracle"), for help and messages.
 std::string modeNames(const std::string& sep, const std::string& last_sep = "");

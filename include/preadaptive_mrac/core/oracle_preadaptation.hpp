@@ -17,6 +17,7 @@ class OraclePreadaptation : public PreadaptationStrategy {
     return std::make_unique<OraclePreadaptation>(*this);
   }
   bool needsTruth() const override { return true; }
+  const char* truthUse() const override { return "theta_hat := theta at each switch"; }
   bool constrainsEvents() const override { return true; }
   void reset() override {
     have_last_ = false;

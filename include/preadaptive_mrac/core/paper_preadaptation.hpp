@@ -21,6 +21,7 @@ class PaperPreadaptation : public PreadaptationStrategy {
   PaperPreadaptation(Variant variant, const ControllerConfig& cfg, const ControllerDesign& design,
                      const Vec& B, const Vec& PB, int out, PreadaptNetwork* net);
   bool needsTruth() const override { return exact_; }
+  const char* truthUse() const override { return exact_ ? "the learning gradient" : ""; }
   std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
     auto c = std::make_unique<PaperPreadaptation>(*this);
     c->net_ = net;

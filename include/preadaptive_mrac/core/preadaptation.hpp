@@ -55,6 +55,11 @@ class PreadaptationStrategy {
   virtual std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const = 0;
   /// \brief True when the strategy needs Sample::theta_true (a simulation-only mode).
   virtual bool needsTruth() const { return false; }
+  /// \brief What the true theta is used for, for the console when needsTruth() ("" else).
+  virtual const char* truthUse() const { return ""; }
+  /// \brief True when a recovery changes what the strategy keeps beyond a run (the network
+  /// it trains at recovery, the regimes it remembers): a node saves its weights then.
+  virtual bool keepsAtRecovery() const { return false; }
   /// \brief True when the estimate an event leaves must be brought back into the law's set
   /// (AdaptiveLaw::constrain). The paper's modes reset as the paper does, unprojected.
   virtual bool constrainsEvents() const { return false; }

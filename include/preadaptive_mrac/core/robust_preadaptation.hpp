@@ -31,6 +31,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
     return c;
   }
   bool constrainsEvents() const override { return true; }
+  bool keepsAtRecovery() const override { return true; }
   void reset() override;
   Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
   void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;

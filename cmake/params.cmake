@@ -1,0 +1,33 @@
+# One declaration per parameter (issue 21): each table params/<component>.yaml becomes the header
+# preadaptive_mrac/params/<component>_params.hpp (its struct with defaults and docs, the
+# visitor the generic reader and range checks use, the tunables and their reconfigure copies),
+# written by src/preadaptive_mrac/params_codegen.py into the devel space's include folder,
+# beside the message headers (so a package built against the devel space finds them too), and
+# installed with them. Generated at configure time, so that every target finds them from the
+# start, and again whenever a table or the generator changes.
+set(PMRAC_GENERATED_INCLUDE ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
+file(GLOB PMRAC_PARAM_TABLES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/params/*.yaml)
+set(PMRAC_PARAMS_CODEGEN
+  ${CMAKE_COMMAND} -E env PYTHONPATH=${CMAKE_CURRENT_SOURCE_DIR}/src
+  ${PYTHON_EXECUTABLE} -m preadaptive_mrac.params_codegen ${PMRAC_GENERATED_INCLUDE})
+execute_process(COMMAND ${PMRAC_PARAMS_CODEGEN} RESULT_VARIABLE _pmrac_codegen_rc)
+if(NOT _pmrac_codegen_rc EQUAL 0)
+  message(FATAL_ERROR "preadaptive_mrac: params_codegen failed on params/*.yaml (see above)")
+endif()
+set(_pmrac_param_headers)
+foreach(t ${PMRAC_PARAM_TABLES})
+  get_filename_component(c ${t} NAME_WE)
+  list(APPEND _pmrac_param_headers ${PMRAC_GENERATED_INCLUDE}/preadaptive_mrac/params/${c}_params.hpp)
+endforeach()
+add_custom_command(
+  OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/params_codegen.stamp
+  BYPRODUCTS ${_pmrac_param_headers}
+  COMMAND ${PMRAC_PARAMS_CODEGEN}
+  COMMAND ${CMAKE_COMMAND} -E touch ${CMAKE_CURRENT_BINARY_DIR}/params_codegen.stamp
+  DEPENDS ${PMRAC_PARAM_TABLES}
+          ${CMAKE_CURRENT_SOURCE_DIR}/src/preadaptive_mrac/params_codegen.py
+          ${CMAKE_CURRENT_SOURCE_DIR}/src/preadaptive_mrac/params_table.py
+  COMMENT "preadaptive_mrac: C++ parameter structs from params/*.yaml")
+add_custom_target(pmrac_params_headers DEPENDS ${CMAKE_CURRENT_BINARY_DIR}/params_codegen.stamp)
+install(DIRECTORY ${PMRAC_GENERATED_INCLUDE}/preadaptive_mrac/params
+        DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION}/preadaptive_mrac)

@@ -1,0 +1,288 @@
+"""C++ from the parameter tables (issue 21: one declaration per parameter): for each table
+params/<component>.yaml, a header preadaptive_mrac/params/<component>_params.hpp with
+
+- the struct of its values (the table's `struct`), each member with its default and doc;
+- `forEachScalar(self, f)`: f(ParamSpec, member) for every double, int and bool the generic
+  reader reads (core/param_table.hpp: readScalars, checkRanges), in the table's order;
+- `forEachSection(f)`: f(key, absent_note) for every optional section;
+
+and for a table with tunable rows (the controller's, with its parts' tables), the tunables:
+the struct ControllerTunableParams, `forEachTunable(f, c...)` (f(key, reconfigure name,
+c.member...)) and the copies to and from the dynamic_reconfigure config.
+
+CMake runs it at build time (cmake/params.cmake) into the devel space; nothing generated is
+committed. Usage: python3 -m preadaptive_mrac.params_codegen OUT_DIR [COMPONENT ...]
+(default: every table in params/; run with src/ on sys.path)."""
+
+import os
+import sys
+import textwrap
+
+from . import params_table
+
+CPP_TYPES = {'double': 'double', 'int': 'int', 'bool': 'bool', 'string': 'std::string'}
+PRESENCE = {
+    'required': 'ParamPresence::kRequired',
+    'optional': 'ParamPresence::kOptional',
+    'in_section': 'ParamPresence::kInSection',
+}
+
+
+def cpp_type(row):
+    if 'cpp_type' in row:
+        return row['cpp_type']
+    if row['type'].startswith('matrix'):
+        return 'Eigen::MatrixXd'
+    if row['type'].startswith('vector'):
+        return 'Eigen::VectorXd'
+    return CPP_TYPES[row['type']]
+
+
+def field(row):
+    return row.get('field', row['key'].split('.')[-1])
+
+
+def cpp_number(v):
+    s = repr(float(v))
+    return s if ('e' in s or '.' in s or 'inf' in s) else s + '.0'
+
+
+def cpp_default(row):
+    """The member's initialiser ('' for a matrix or vector: sized by the plant)."""
+    t = cpp_type(row)
+    v = row.get('default')
+    if t.startswith('Eigen::') or v is None:
+        return ''
+    if t == 'bool':
+        return ' = %s' % ('true' if v else 'false')
+    if t == 'std::string':
+        return ' = "%s"' % v
+    if t == 'double':
+        return ' = %s' % cpp_number(v)
+    return ' = %d' % int(v)
+
+
+def comment(text, indent):
+    lines = textwrap.wrap(text, 96 - len(indent) - 4)
+    return ''.join('%s/// %s\n' % (indent, line) for line in lines)
+
+
+def member_doc(row, full_key):
+    unit = row.get('unit')
+    return 'key `%s`: %s%s' % (
+        full_key,
+        row['doc'].replace('\\|', '|'),
+        ' [%s]' % unit if unit and unit != '–' else '',
+    )
+
+
+def check_init(row):
+    c = row.get('check')
+    if not c:
+        return 'ParamCheck{}'
+    lo, hi = c.get('min'), c.get('max')
+    return 'ParamCheck{%s, %s, %s, %s, %s, %s}' % (
+        'true' if lo is not None else 'false',
+        cpp_number(lo if lo is not None else 0.0),
+        'true' if c.get('min_open') else 'false',
+        'true' if hi is not None else 'false',
+        cpp_number(hi if hi is not None else 0.0),
+        'true' if c.get('max_open') else 'false',
+    )
+
+
+def scalar_rows(table):
+    return [
+        r
+        for r in table['params']
+        if r['type'] in ('double', 'int', 'bool') and r.get('read') != 'custom'
+    ]
+
+
+def struct_text(table):
+    out = []
+    s = table['struct']
+    out.append(
+        comment(
+            'The values of params/%s.yaml (key `%s`), with their defaults. Generated: edit'
+            ' the table.' % (table['component'], table['prefix']),
+            '',
+        )
+    )
+    out.append('struct %s {\n' % s)
+    for row in table['params']:
+        if row['type'] == 'section':
+            continue
+        out.append(comment(member_doc(row, '%s.%s' % (table['prefix'], row['key'])), '  '))
+        out.append('  %s %s%s;\n' % (cpp_type(row), field(row), cpp_default(row)))
+    out.append(
+        '\n  /// \\brief Calls f(spec, member) for each double, int and bool the generic reader\n'
+        '  /// reads (param_table.hpp), in the table\'s order; Self: this struct or one derived.\n'
+        '  template <class Self, class F>\n'
+        '  static void forEachScalar(Self& self, F&& f) {\n'
+    )
+    for row in scalar_rows(table):
+        key = row['key']
+        section = key.rsplit('.', 1)[0] if row['presence'] == 'in_section' else ''
+        out.append(
+            '    f(ParamSpec{"%s", %s, %s, "%s"}, self.%s);\n'
+            % (key, PRESENCE[row['presence']], check_init(row), section, field(row))
+        )
+    out.append('  }\n')
+    out.append(
+        '  /// \\brief Calls f(key, absent_note) for each optional section of the table.\n'
+        '  template <class F>\n'
+        '  static void forEachSection(F&& f) {\n'
+    )
+    for row in table['params']:
+        if row['type'] == 'section' and 'table' not in row:
+            out.append(
+                '    f("%s", "%s");\n' % (row['key'], row['absent_note'].replace('"', '\\"'))
+            )
+    if not any(r['type'] == 'section' and 'table' not in r for r in table['params']):
+        out.append('    (void)f;  // no section of its own\n')
+    out.append('  }\n')
+    if 'absent_note' in table:
+        out.append(
+            '  /// \\brief What the start-up line says when the whole section is left out.\n'
+            '  static constexpr const char* kAbsentNote = "%s";\n' % table['absent_note']
+        )
+    out.append('};\n')
+    return ''.join(out)
+
+
+def tunable_paths(component):
+    """(key below the prefix, reconfigure name, C++ path, C++ type, default) of every tunable
+    row, the parts' tables included (their section's member first: robust.margin)."""
+    out = []
+    for row in params_table.load_own(component)['params']:
+        if 'table' in row:
+            for sub in params_table.load_own(row['table'])['params']:
+                if 'tunable' in sub:
+                    out.append(
+                        (
+                            '%s.%s' % (row['key'], sub['key']),
+                            sub['tunable'],
+                            '%s.%s' % (field(row), field(sub)),
+                            cpp_type(sub),
+                            sub,
+                        )
+                    )
+        elif 'tunable' in row:
+            out.append((row['key'], row['tunable'], field(row), cpp_type(row), row))
+    return out
+
+
+def tunables_text(component):
+    """The tunables of a whole component (its parts' rows included); '' for a part's own table
+    (`part_of`), whose tunables its owner's header holds."""
+    if 'part_of' in params_table.load_own(component):
+        return ''
+    paths = tunable_paths(component)
+    if not paths:
+        return ''
+    own = params_table.load_own(component)
+    parts = [
+        (field(r), params_table.load_own(r['table'])['struct'])
+        for r in own['params']
+        if 'table' in r and any(p[2].startswith(field(r) + '.') for p in paths)
+    ]
+    out = [
+        comment(
+            'The parameters of `%s` that may change while it runs (dynamic_reconfigure): the'
+            ' rows with a `tunable` name. Generated: edit the table.' % own['prefix'],
+            '',
+        ),
+        'struct %sTunableParams {\n' % own['struct'].replace('Params', ''),
+    ]
+    for key, name, path, typ, row in paths:
+        if '.' in path:
+            continue
+        out.append(comment(member_doc(row, '%s.%s' % (own['prefix'], key)), '  '))
+        out.append('  %s %s%s;\n' % (typ, path, cpp_default(row)))
+    for member, struct in parts:
+        out.append(
+            '  %s %s;  ///< `%s.%s.*`: its tunable rows\n' % (struct, member, own['prefix'], member)
+        )
+    out.append('};\n\n')
+    out.append(
+        comment(
+            'Calls f(key, reconfigure name, c.member...) for each tunable parameter, in the'
+            ' table\'s order: the same member of every object given (configurations and'
+            ' tunables alike).',
+            '',
+        )
+    )
+    out.append('template <class F, class... C>\nvoid forEachTunable(F&& f, C&... c) {\n')
+    for key, name, path, typ, row in paths:
+        out.append('  f("%s", "%s", c.%s...);\n' % (key, name, path))
+    out.append('}\n\n')
+    out.append(
+        '/// \\brief Tunables into a dynamic_reconfigure config R (fields named as the tunables).\n'
+        'template <class R, class T>\nvoid tunablesToReconfigure(const T& t, R* r) {\n'
+    )
+    for key, name, path, typ, row in paths:
+        out.append('  r->%s = t.%s;\n' % (name, path))
+    out.append('}\n\n')
+    out.append(
+        '/// \\brief A dynamic_reconfigure config R into tunables.\n'
+        'template <class R, class T>\nvoid tunablesFromReconfigure(const R& r, T* t) {\n'
+    )
+    for key, name, path, typ, row in paths:
+        out.append('  t->%s = r.%s;\n' % (path, name))
+    out.append('}\n')
+    return ''.join(out)
+
+
+def header(component):
+    table = params_table.load_own(component)
+    includes = ['<cstdint>', '<string>', '"preadaptive_mrac/core/param_spec.hpp"']
+    if any(cpp_type(r).startswith('Eigen::') for r in table['params']):
+        includes.append('"preadaptive_mrac/core/types.hpp"')
+    for r in table['params']:
+        if 'table' in r and any(
+            'tunable' in s for s in params_table.load_own(r['table'])['params']
+        ):
+            includes.append('"preadaptive_mrac/params/%s_params.hpp"' % r['table'])
+    return (
+        '#pragma once\n'
+        '/// \\file %s_params.hpp\n'
+        '/// \\brief Generated from params/%s.yaml by src/preadaptive_mrac/params_codegen.py\n'
+        '/// (cmake/params.cmake, at build time): do not edit, edit the table.\n\n'
+        '%s\n\nnamespace preadaptive_mrac {\n\n%s\n%s}  // namespace preadaptive_mrac\n'
+        % (
+            component,
+            component,
+            '\n'.join('#include %s' % i for i in includes),
+            struct_text(table),
+            tunables_text(component) + ('\n' if tunables_text(component) else ''),
+        )
+    )
+
+
+def write_if_changed(path, text):
+    """Only a changed header is rewritten: its dependants are not rebuilt for nothing."""
+    if os.path.exists(path):
+        with open(path) as f:
+            if f.read() == text:
+                return
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, 'w') as f:
+        f.write(text)
+
+
+def main(argv):
+    if len(argv) < 2:
+        sys.stderr.write('usage: params_codegen OUT_DIR [COMPONENT ...]  (default: every table)\n')
+        return 2
+    out_dir = argv[1]
+    for component in argv[2:] or params_table.components():
+        write_if_changed(
+            os.path.join(out_dir, 'preadaptive_mrac', 'params', component + '_params.hpp'),
+            header(component),
+        )
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv))
