@@ -98,50 +98,24 @@ core=$!
 for _ in $(seq 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
 declare -A SHAPE=([run_a]=nodelet [run_b]=process [run_c]=nodelet)
 declare -A MODE=([run_a]=rac [run_b]=pa_learn [run_c]="rac + pa_learn")
+# What a user writes: the package's launch file included in a namespace of their own.
+# shellcheck source=test/scripts/lib/include_in_ns.sh
+source "$ROOT/test/scripts/lib/include_in_ns.sh"
+for ns in run_a run_b; do
+  mkdir -p "$W/$ns"
+  include_in_ns "$W/$ns.launch" "$ns" scenario.launch scenario=1 mode="${MODE[$ns]}" seed=1 \
+    shape="${SHAPE[$ns]}" record=true bag_dir="$W/$ns" latency_report="$W/$ns/plant.json" output=log
+done
+mkdir -p "$W/run_c"
+include_in_ns "$W/run_c.launch" run_c compare.launch scenario=1 pa_mode=pa_learn seed=1 \
+  bag_dir="$W/run_c" report_dir="$W/run_c" output=log
+declare -A REPORTS=([run_a]=plant.json [run_b]=plant.json [run_c]="rac_plant.json pa_plant.json")
 pids=()
 for ns in run_a run_b run_c; do
-  if [ "$ns" = run_c ]; then
-    mkdir -p "$W/$ns"
-    cat >"$W/$ns.launch" <<EOF
-<launch>
-  <group ns="$ns">
-    <include file="\$(find preadaptive_mrac)/launch/compare.launch">
-      <arg name="scenario" value="1"/>
-      <arg name="pa_mode" value="pa_learn"/>
-      <arg name="seed" value="1"/>
-      <arg name="bag_dir" value="$W/$ns"/>
-      <arg name="report_dir" value="$W/$ns"/>
-      <arg name="output" value="log"/>
-    </include>
-  </group>
-</launch>
-EOF
-    "$PKGLIB/launch_checked" --quiet --timeout 240 --log "$W/$ns/launch.log" \
-      --expect-report "$W/$ns/rac_plant.json" --expect-report "$W/$ns/pa_plant.json" \
-      -- "$W/$ns.launch" 2>"$W/$ns/err" &
-    pids+=($!)
-    continue
-  fi
-  mkdir -p "$W/$ns"
-  # What a user writes: the package's launch file included in a namespace of their own.
-  cat >"$W/$ns.launch" <<EOF
-<launch>
-  <group ns="$ns">
-    <include file="\$(find preadaptive_mrac)/launch/scenario.launch">
-      <arg name="scenario" value="1"/>
-      <arg name="mode" value="${MODE[$ns]}"/>
-      <arg name="seed" value="1"/>
-      <arg name="shape" value="${SHAPE[$ns]}"/>
-      <arg name="record" value="true"/>
-      <arg name="bag_dir" value="$W/$ns"/>
-      <arg name="latency_report" value="$W/$ns/plant.json"/>
-      <arg name="output" value="log"/>
-    </include>
-  </group>
-</launch>
-EOF
-  "$PKGLIB/launch_checked" --quiet --timeout 240 --log "$W/$ns/launch.log" \
-    --expect-report "$W/$ns/plant.json" -- "$W/$ns.launch" 2>"$W/$ns/err" &
+  expect=()
+  for r in ${REPORTS[$ns]}; do expect+=(--expect-report "$W/$ns/$r"); done
+  "$PKGLIB/launch_checked" --quiet --timeout 240 --log "$W/$ns/launch.log" "${expect[@]}" \
+    -- "$W/$ns.launch" 2>"$W/$ns/err" &
   pids+=($!)
 done
 i=0

@@ -37,17 +37,11 @@ CORE=$!
 trap 'kill "$CORE" 2>/dev/null; wait "$CORE" 2>/dev/null; rm -rf "$TMP"' EXIT
 for _ in $(seq 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
 
-# include NS FILE ARGS...: what a user writes, FILE included in <group ns="NS"> with ARGS
-# (name=value each).
+# shellcheck source=test/scripts/lib/include_in_ns.sh
+source "$ROOT/test/scripts/lib/include_in_ns.sh"
 include() {
-  local ns=$1 file=$2
-  shift 2
-  mkdir -p "$TMP/$ns"
-  {
-    echo "<launch><group ns=\"$ns\"><include file=\"\$(find preadaptive_mrac)/launch/$file\">"
-    for kv in "$@"; do echo "  <arg name=\"${kv%%=*}\" value=\"${kv#*=}\"/>"; done
-    echo "</include></group></launch>"
-  } >"$TMP/$ns.launch"
+  mkdir -p "$TMP/$1"
+  include_in_ns "$TMP/$1.launch" "$@"
 }
 common=(scenario="$SCEN" seed=1 output=log)
 include run_a compare.launch "${common[@]}" pa_mode=pa_learn shape=nodelet bag_dir="$TMP/run_a" \
