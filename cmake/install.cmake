@@ -59,3 +59,10 @@ catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers scripts/l
 # roslaunch that exits non-zero when a node died (docs/ros.md), with the environment it sources.
 install(PROGRAMS scripts/lib/launch_checked DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(FILES scripts/lib/ros_env DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+# The launch-prefix compare.launch's pairs name their parent namespace's manager, recorder
+# progress and tf with: launch files name it $(find preadaptive_mrac)/scripts/lib/parent_names,
+# the source tree's in the devel space, so installed at that place under share/, not in a bin
+# folder.
+#catkin_lint: ignore_once wrong_bin_install_destination
+install(PROGRAMS scripts/lib/parent_names
+  DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/scripts/lib)

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <utility>
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -75,8 +76,13 @@ void NodeContext::printFinal(const std::string& line, bool error) const {
 }
 
 PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std::string>& names) {
-  return PublisherGuard(resolveCallerNames(ctx.nh().getNamespace(), names),
-                        ctx.keyStyle().root + "accept_from",
+  // Resolved as the node resolves any name, remappings included: a pair of compare.launch in a
+  // user's namespace names its manager one level up by a remapping (scripts/lib/parent_names).
+  std::vector<std::string> accepted;
+  accepted.reserve(names.size());
+  for (const auto& n : resolveCallerNames(ctx.nh().getNamespace(), names))
+    accepted.push_back(ctx.nh().resolveName(n));
+  return PublisherGuard(std::move(accepted), ctx.keyStyle().root + "accept_from",
                         [](const std::string& warning) { ROS_WARN("%s", warning.c_str()); });
 }
 

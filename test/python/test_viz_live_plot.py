@@ -4,7 +4,13 @@ stand-in messages (no master, no window)."""
 import unittest
 
 import pkg_path  # noqa: F401
-from preadaptive_mrac.viz.live_plot import SpecError, parse_spec, resolve, split_fields
+from preadaptive_mrac.viz.live_plot import (
+    SpecError,
+    absolute_spec,
+    parse_spec,
+    resolve,
+    split_fields,
+)
 
 
 class Msg:
@@ -48,6 +54,12 @@ class TestSpec(unittest.TestCase):
                 parse_spec(bad, TOPICS)
         with self.assertRaisesRegex(SpecError, 'a topic, not a field'):
             parse_spec('/plant/state', TOPICS)
+
+    def test_relative_spec_in_the_node_namespace(self):
+        self.assertEqual(absolute_spec('plant/state/alpha', '/'), '/plant/state/alpha')
+        self.assertEqual(absolute_spec('plant/state/alpha', '/run_a/'), '/run_a/plant/state/alpha')
+        self.assertEqual(absolute_spec('plant/state/x[1]', '/a/b'), '/a/b/plant/state/x[1]')
+        self.assertEqual(absolute_spec('/plant/state/alpha', '/run_a/'), '/plant/state/alpha')
 
 
 class TestResolve(unittest.TestCase):

@@ -9,7 +9,10 @@
 #     (run_a: rac in the nodelet shape, run_b: pa_learn in the process shape), recording: both
 #     complete, and each bag equals its own batch CLI run bit for bit (bench/bag_vs_cli.py
 #     --tol 0), with its tf under its namespace (not /tf), no controller gone stale and no
-#     /use_sim_time set; the installed analyze_bag (and so the Python package) reads one bag.
+#     /use_sim_time set; the installed analyze_bag (and so the Python package) reads one bag;
+#   - at the same time compare.launch in run_c (nodelet shape, rac and pa_learn), whose pairs
+#     reach its manager, recorder and tf through the installed scripts/lib/parent_names: both
+#     pairs' data in its bag equal their CLI runs bit for bit.
 # The catkin build is the cost (ccache is used when present, with CCACHE_BASEDIR so a new
 # temporary workspace still hits the cache): PMRAC_WS_JOBS (default 2) parallel jobs.
 # PMRAC_WS_KEEP=1 keeps the workspace.
@@ -78,6 +81,8 @@ for exe in preadapt_sim preadapt_sweep preadapt_family plant_sim_node mrac_contr
   launch_checked; do
   [ -x "$PKGLIB/$exe" ] || fail "$exe not installed in lib/preadaptive_mrac"
 done
+[ -x "$WS/install/share/preadaptive_mrac/scripts/lib/parent_names" ] ||
+  fail "scripts/lib/parent_names (compare.launch's launch-prefix) not installed in share/"
 rosrun preadaptive_mrac preadapt_sim --scenario 1 --mode rac >"$W/rosrun.out" 2>&1 ||
   fail "rosrun preadaptive_mrac preadapt_sim: $(tail -3 "$W/rosrun.out")"
 for m in rac pa_learn; do
@@ -91,33 +96,30 @@ export ROS_MASTER_URI=http://127.0.0.1:$port ROS_IP=127.0.0.1 ROS_HOSTNAME=127.0
 roscore -p "$port" >"$W/roscore.log" 2>&1 &
 core=$!
 for _ in $(seq 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
-declare -A SHAPE=([run_a]=nodelet [run_b]=process) MODE=([run_a]=rac [run_b]=pa_learn)
-pids=()
+declare -A SHAPE=([run_a]=nodelet [run_b]=process [run_c]=nodelet)
+declare -A MODE=([run_a]=rac [run_b]=pa_learn [run_c]="rac + pa_learn")
+# What a user writes: the package's launch file included in a namespace of their own.
+# shellcheck source=test/scripts/lib/include_in_ns.sh
+source "$ROOT/test/scripts/lib/include_in_ns.sh"
 for ns in run_a run_b; do
   mkdir -p "$W/$ns"
-  # What a user writes: the package's launch file included in a namespace of their own.
-  cat >"$W/$ns.launch" <<EOF
-<launch>
-  <group ns="$ns">
-    <include file="\$(find preadaptive_mrac)/launch/scenario.launch">
-      <arg name="scenario" value="1"/>
-      <arg name="mode" value="${MODE[$ns]}"/>
-      <arg name="seed" value="1"/>
-      <arg name="shape" value="${SHAPE[$ns]}"/>
-      <arg name="record" value="true"/>
-      <arg name="bag_dir" value="$W/$ns"/>
-      <arg name="latency_report" value="$W/$ns/plant.json"/>
-      <arg name="output" value="log"/>
-    </include>
-  </group>
-</launch>
-EOF
-  "$PKGLIB/launch_checked" --quiet --timeout 240 --log "$W/$ns/launch.log" \
-    --expect-report "$W/$ns/plant.json" -- "$W/$ns.launch" 2>"$W/$ns/err" &
+  include_in_ns "$W/$ns.launch" "$ns" scenario.launch scenario=1 mode="${MODE[$ns]}" seed=1 \
+    shape="${SHAPE[$ns]}" record=true bag_dir="$W/$ns" latency_report="$W/$ns/plant.json" output=log
+done
+mkdir -p "$W/run_c"
+include_in_ns "$W/run_c.launch" run_c compare.launch scenario=1 pa_mode=pa_learn seed=1 \
+  bag_dir="$W/run_c" report_dir="$W/run_c" output=log
+declare -A REPORTS=([run_a]=plant.json [run_b]=plant.json [run_c]="rac_plant.json pa_plant.json")
+pids=()
+for ns in run_a run_b run_c; do
+  expect=()
+  for r in ${REPORTS[$ns]}; do expect+=(--expect-report "$W/$ns/$r"); done
+  "$PKGLIB/launch_checked" --quiet --timeout 240 --log "$W/$ns/launch.log" "${expect[@]}" \
+    -- "$W/$ns.launch" 2>"$W/$ns/err" &
   pids+=($!)
 done
 i=0
-for ns in run_a run_b; do
+for ns in run_a run_b run_c; do
   wait "${pids[$i]}" || fail "$ns (${MODE[$ns]}, ${SHAPE[$ns]} shape) did not complete: $(tail -5 "$W/$ns/err")"
   i=$((i + 1))
 done
@@ -141,6 +143,20 @@ for ns in run_a run_b; do
     fail "$ns: the controller went stale (\"adaptation frozen\")"
   fi
 done
+bag=$(ls "$W"/run_c/scenario1_rac_vs_pa_learn_*.bag 2>/dev/null | grep -v incomplete | head -1)
+if [ -z "$bag" ]; then
+  fail "run_c: no compare.launch bag in $W/run_c"
+else
+  for pair in rac pa; do
+    m=$([ "$pair" = rac ] && echo rac || echo pa_learn)
+    /usr/bin/python3 "$ROOT/bench/bag_vs_cli.py" "$bag" "$W/cli_$m.csv" --ns "/run_c/$pair" \
+      --tol 0 >"$W/run_c/compare_$pair.out" 2>&1 ||
+      fail "run_c: /run_c/$pair differs from the CLI: $(cat "$W/run_c/compare_$pair.out")"
+    echo "run_c (compare.launch, /run_c/$pair): $(cat "$W/run_c/compare_$pair.out")"
+  done
+  grep -q "adaptation frozen" "$W/run_c/launch.log" "$W"/ros_home/log/*/run_c* 2>/dev/null &&
+    fail "run_c: a controller went stale (\"adaptation frozen\")"
+fi
 # The installed Python package and a script for users, on one of the bags.
 bag=$(ls "$W"/run_b/scenario1_pa_learn_*.bag 2>/dev/null | head -1)
 if [ -n "$bag" ]; then
@@ -149,7 +165,7 @@ if [ -n "$bag" ]; then
 fi
 
 if [ "$FAIL" = 0 ]; then
-  echo "ok: installed, source/build/devel removed; tools on PATH and rosrun; two namespaced lockstep runs at once, each bag equal to its CLI run"
+  echo "ok: installed, source/build/devel removed; tools on PATH and rosrun; three namespaced lockstep runs at once (scenario.launch twice, compare.launch), each bag equal to its CLI runs"
   echo "$TEST_NAME: PASSED"
   [ "${PMRAC_WS_KEEP:-0}" = 1 ] || rm -rf "$W"
 else

@@ -9,6 +9,9 @@
 #     then SIGCONTed, and later its link down for 300 ms then up: the plant holds trim (WARN
 #     "holding trim", then "commands are back"), the controller goes stale on the link loss
 #     ("no valid state", then "valid state again"), and the run completes (plant report).
+#  4. both halves included in a user's namespace (<group ns="tm">, part:=plant in A and
+#     part:=controller in B), lockstep short scenario recorded: the bag equals the CLI bit for
+#     bit, the guard names the peer in the namespace (/tm/mrac_controller), no /use_sim_time.
 # Needs root (CAP_NET_ADMIN): otherwise exit 77 with the reason. Traffic stays in the
 # namespaces; they are deleted on exit.
 set -uo pipefail
@@ -133,6 +136,41 @@ if ip netns exec "$A" tc qdisc add dev "$VA" root netem delay 2ms 2>"$WORK/netem
 else
   echo "delayed link: not run, tc netem refused here ($(head -1 "$WORK/netem.err"))"
 fi
+# 4. both halves in a namespace of a user's launch file (what docs/ros.md, "Namespaces", says
+# two_machines.launch allows on both machines alike).
+echo "== lockstep short scenario, both halves included in <group ns=\"tm\">"
+SHORT=$ROOT/test/ros/config/short_scenario.yaml
+for part in plant controller; do
+  cat >"$WORK/tm_$part.launch" <<EOF
+<launch><group ns="tm"><include file="\$(find preadaptive_mrac)/launch/two_machines.launch">
+  <arg name="part" value="$part"/>
+  <arg name="plant_host" value="10.77.0.1"/> <arg name="controller_host" value="10.77.0.2"/>
+  <arg name="scenario_file" value="$SHORT"/>
+  <arg name="record" value="true"/> <arg name="bag" value="$WORK/tm.bag"/>
+  <arg name="latency_report" value="$WORK/tm.json"/>
+</include></group></launch>
+EOF
+done
+bg_a roslaunch "$WORK/tm_plant.launch" >"$WORK/tm.plant.log" 2>&1
+PLANT_LAUNCH=$!
+PIDS+=($PLANT_LAUNCH)
+for _ in $(seq 100); do grep -q "process\[tm/plant_sim" "$WORK/tm.plant.log" && break; sleep 0.1; done
+bg_b roslaunch "$WORK/tm_controller.launch" >"$WORK/tm.controller.log" 2>&1
+CPID=$!
+PIDS+=($CPID)
+timeout 120 tail --pid="$PLANT_LAUNCH" -f /dev/null
+stop_controller
+grep -Eq '"completed": ?true' "$WORK/tm.json" 2>/dev/null ||
+  fail "namespaced run did not complete ($(tail -3 "$WORK/tm.plant.log"))"
+"$BUILD/devel/lib/preadaptive_mrac/preadapt_sim" --scenario "$SHORT" --mode pa_learn \
+  --csv "$WORK/cli_tm.csv" >/dev/null
+/usr/bin/python3 "$ROOT/bench/bag_vs_cli.py" "$WORK/tm.bag" "$WORK/cli_tm.csv" --ns /tm --tol 0 ||
+  fail "namespaced bag differs from the CLI"
+grep -q "taking commands on /tm/controller/elevator_cmd only from /tm/mrac_controller" \
+  "$WORK/tm.plant.log" || fail "plant in /tm: no ~accept_from guard naming /tm/mrac_controller"
+! grep -q "dropping messages on" "$WORK"/tm.*.log || fail "the guard dropped messages of the namespaced loop"
+in_b /usr/bin/python3 /usr/bin/rosparam get /use_sim_time >/dev/null 2>&1 &&
+  fail "/use_sim_time is set on the master"
 if [ "$RC" != 0 ]; then
   for f in "$WORK"/*.log; do echo "---- $f"; grep -E "ERROR|WARN|FATAL|holding|stale|valid state" "$f" | tail -15; done
 fi

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Checks for the rviz screenshot test (test/viz/rviz_screenshot_test.sh).
 
-    rviz_check.py graph  --markers-topic /aircraft_markers
+    rviz_check.py graph  --markers-topic /aircraft_markers [--tf-topic /tf]
         ROS graph: rviz subscribes to /tf and the marker topic, and a node publishes the
         marker topic with messages arriving (listens for one MarkerArray).
     rviz_check.py shot   --out FILE.png
@@ -72,15 +72,16 @@ def cmd_graph(args):
             continue
         pubs, subs = dict(p), dict(s)
         if (
-            rviz_in(subs.get('/tf', []))
+            rviz_in(subs.get(args.tf_topic, []))
             and rviz_in(subs.get(args.markers_topic, []))
             and pubs.get(args.markers_topic)
-            and pubs.get('/tf')
+            and pubs.get(args.tf_topic)
         ):
             break
         time.sleep(0.5)
     check(
-        rviz_in(subs.get('/tf', [])), 'rviz subscribes to /tf (subscribers: %s)' % subs.get('/tf')
+        rviz_in(subs.get(args.tf_topic, [])),
+        'rviz subscribes to %s (subscribers: %s)' % (args.tf_topic, subs.get(args.tf_topic)),
     )
     check(
         rviz_in(subs.get(args.markers_topic, [])),
@@ -91,7 +92,10 @@ def cmd_graph(args):
         bool(pubs.get(args.markers_topic)),
         '%s has a publisher (%s)' % (args.markers_topic, pubs.get(args.markers_topic)),
     )
-    check(bool(pubs.get('/tf')), '/tf has publisher(s) (%s)' % pubs.get('/tf'))
+    check(
+        bool(pubs.get(args.tf_topic)),
+        '%s has publisher(s) (%s)' % (args.tf_topic, pubs.get(args.tf_topic)),
+    )
     # Marker arrays with live data: text with the sample time, a history with points.
     if not rosgraph.is_master_online():
         check(False, 'no ROS master at %s' % rosgraph.get_master_uri())
@@ -301,6 +305,7 @@ def main():
     sp = ap.add_subparsers(dest='cmd', required=True)
     g = sp.add_parser('graph')
     g.add_argument('--markers-topic', default='/aircraft_markers')
+    g.add_argument('--tf-topic', default='/tf', help="the run's tf (/NS/tf in a namespace)")
     g.add_argument('--timeout', type=float, default=30.0)
     s = sp.add_parser('shot')
     s.add_argument('--out', required=True)

@@ -4,7 +4,7 @@
 #
 #   test/viz/rviz_screenshot_test.sh [--mode auto|launch|interim] [--broken]
 #                                    [--config FILE] [--out DIR] [--settle SECONDS]
-#                                    [--launch "PKG FILE" | PATH.launch]
+#                                    [--launch "PKG FILE" | PATH.launch] [--ns NS]
 #
 # Modes (default auto = launch if possible, else interim; or $PMRAC_RVIZ_TEST_MODE):
 #   launch   `roslaunch $LAUNCH rviz:=true [clock:=realtime] $PMRAC_LAUNCH_ARGS`, LAUNCH =
@@ -14,6 +14,9 @@
 #            rviz/preadaptive_mrac.rviz and scripts/viz_markers.
 #   interim  roscore + test/viz/fake_scenario.py (a stand-in publishing the package's
 #            topics and tf, from a Python fixture loop) + scripts/viz_markers + rviz.
+# --ns NS (launch mode): the launch file included in <group ns="NS"> of a launch file written
+#            here, as a user runs it beside others; the checks then look for /NS/tf and
+#            /NS/aircraft_markers (rviz remapped to them by the launch file).
 # Checks (each prints PASS:/FAIL:): rviz subscribes to /tf and /aircraft_markers, which
 # is published with live data; rviz is still running; the screenshot is not blank; the 3D
 # view holds the markers (aircraft, velocity arrow, text, alpha history); the Displays
@@ -37,6 +40,7 @@ OUT=""
 SETTLE=${PMRAC_RVIZ_SETTLE:-15}
 LAUNCH_ARGS=${PMRAC_LAUNCH_ARGS:-}
 LAUNCH=${PMRAC_LAUNCH:-preadaptive_mrac scenario.launch}
+NS=
 
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -46,6 +50,7 @@ while [ $# -gt 0 ]; do
     --out) OUT=$2; shift 2 ;;
     --settle) SETTLE=$2; shift 2 ;;
     --launch) LAUNCH=$2; shift 2 ;;
+    --ns) NS=$2; shift 2 ;;
     -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
     *) echo "rviz_screenshot_test: unknown argument '$1' (see --help)"; exit 1 ;;
   esac
@@ -83,7 +88,7 @@ leftovers() {  # pids of processes of this run that escaped their group: roslaun
   local d
   for d in /proc/[0-9]*; do
     [ "${d#/proc/}" = "$$" ] && continue
-    tr '\0' ' ' <"$d/cmdline" 2>/dev/null | grep -qF -- "$WORK/" && echo "${d#/proc/}"
+    tr '\0' ' ' 2>/dev/null <"$d/cmdline" | grep -qF -- "$WORK/" && echo "${d#/proc/}"
   done
 }
 cleanup() {
@@ -161,6 +166,21 @@ case "$MODE" in
       ARGS="$ARGS clock:=realtime"   # a whole run in wall time: rviz is looked at while it runs
     fi
     ARGS="$ARGS $LAUNCH_ARGS"
+    if [ -n "$NS" ]; then
+      # What a user writes: the launch file in a namespace of their own (args passed through).
+      read -r L1 L2 <<<"$LAUNCH"
+      INNER=$([ -n "$L2" ] && echo "\$(find $L1)/launch/$L2" || echo "$L1")
+      {
+        echo "<launch>"
+        for kv in $ARGS; do echo "  <arg name=\"${kv%%:=*}\" default=\"${kv#*:=}\"/>"; done
+        echo "  <group ns=\"$NS\"><include file=\"$INNER\">"
+        for kv in $ARGS; do echo "    <arg name=\"${kv%%:=*}\" value=\"\$(arg ${kv%%:=*})\"/>"; done
+        echo "  </include></group>"
+        echo "</launch>"
+      } >"$WORK/in_namespace.launch"
+      LAUNCH=$WORK/in_namespace.launch
+      ARGS=""
+    fi
     echo "MODE: launch: roslaunch -p $PORT $LAUNCH $ARGS (DISPLAY $DISPLAY)"
     # shellcheck disable=SC2086
     start_bg "$WORK/roslaunch.log" roslaunch -p "$PORT" $LAUNCH $ARGS
@@ -189,7 +209,7 @@ esac
 START=$(date +%s)
 
 # --- checks
-run_check graph --markers-topic /aircraft_markers --timeout 60
+run_check graph --markers-topic "${NS:+/$NS}/aircraft_markers" --tf-topic "${NS:+/$NS}/tf" --timeout 60
 ELAPSED=$(( $(date +%s) - START ))
 [ $ELAPSED -lt "$SETTLE" ] && sleep $(( SETTLE - ELAPSED ))
 if [ "$MODE" = interim ]; then

@@ -68,8 +68,8 @@ class NodeContext {
 };
 
 /// \brief The node's guard for ~accept_from (`names` as read by the parameter reader): each
-/// name resolved in the node's namespace (ctx.nh(): a nodelet's own, not its manager's), the
-/// warnings logged with ROS_WARN.
+/// name resolved in the node's namespace (ctx.nh(): a nodelet's own, not its manager's) and
+/// through the node's remappings, the warnings logged with ROS_WARN.
 PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std::string>& names);
 
 /// \brief End this process with `code`: the first non-zero code requested wins (a refusal is

@@ -11,6 +11,8 @@ Each argument is TOPIC/FIELD as in rqt_plot (not packaged in Debian 12):
   /plant/state/x[1]            one element of an array field
   /controller/status/e:e_dot_est   several fields of one topic (one line each)
   /controller/status/theta_hat an array without an index: one line per element
+A TOPIC without a leading '/' is relative, resolved in the node's namespace as any ROS name
+(plant/state/alpha is /run_a/plant/state/alpha for a live_plot started in run_a).
 The x axis is the message's header stamp (simulation time in lockstep, wall time in
 realtime), or the time of receipt for messages without a header, in seconds from the first
 sample; the window shows the last --window seconds and scrolls.
@@ -77,6 +79,14 @@ def parse_spec(spec, topics):
             raise SpecError('%s: an empty field in a:b' % spec)
         split_fields(f)
     return best, fields
+
+
+def absolute_spec(spec, namespace):
+    """A relative spec ('plant/state/alpha') joined to the node's namespace ('/run_a/'), as
+    rospy resolves a relative topic name; an absolute one as it is."""
+    if spec.startswith('/'):
+        return spec
+    return '/' + (namespace.strip('/') + '/' if namespace.strip('/') else '') + spec
 
 
 def field_names(msg):
@@ -193,7 +203,7 @@ def main(description=__doc__):
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog='\n'.join(description.split('\n')[1:]),
     )
-    ap.add_argument('specs', nargs='+', metavar='/TOPIC/FIELD')
+    ap.add_argument('specs', nargs='+', metavar='[/]TOPIC/FIELD')
     ap.add_argument('--window', type=float, default=10.0)
     ap.add_argument('--rate', type=float, default=10.0)
     ap.add_argument('--duration', type=float, default=0.0)
@@ -215,7 +225,7 @@ def main(description=__doc__):
     # Syntax first (no master needed), so a typo is refused at once.
     try:
         for s in args.specs:
-            parse_spec(s, [])
+            parse_spec(absolute_spec(s, '/'), [])
     except SpecError as e:
         ap.exit(2, 'live_plot: error: %s\n' % e)
 
@@ -235,7 +245,9 @@ def main(description=__doc__):
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     plot = Plot(args)
     master = rosgraph.Master(rospy.get_name())
-    pending = list(args.specs)
+    # Relative specs follow the node's namespace, so a launch file included in a user's
+    # <group ns> plots its own run (scenario.launch plot:=true).
+    pending = [absolute_spec(s, rospy.get_namespace()) for s in args.specs]
     feeds = {}
     start = time.monotonic()
     warned = False
