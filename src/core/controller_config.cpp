@@ -36,6 +36,16 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
   c.confirm_samples = static_cast<int>(r.getInt(p + ".attention.confirm_samples", 0));
   c.hysteresis = r.getDouble(p + ".attention.hysteresis", 0.0);
   c.freeze_when_saturated = r.getBool(p + ".adaptation.freeze_when_saturated", true);
+  // Absent = measured, without a note in the defaults list: a run without the key reports
+  // byte for byte what it reported before the key.
+  const std::string fb = p + ".adaptation.elevator_feedback";
+  if (r.has(fb)) {
+    const std::string v = r.getString(fb);
+    if (v == "commanded")
+      c.elevator_feedback = ElevatorFeedback::kCommanded;
+    else if (v != "measured" && r.usable(fb))
+      r.fail(fb, "expected one of measured, commanded, got '" + v + "'");
+  }
   if (r.has(p + ".projection")) {
     c.projection = r.getBool(p + ".projection.enabled");
     c.theta_max = r.getDouble(p + ".projection.theta_max");

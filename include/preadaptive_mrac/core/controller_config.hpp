@@ -14,6 +14,12 @@ namespace preadaptive_mrac {
 
 class ParamReader;
 
+/// \brief The elevator deflection a sample reports as applied over the previous step, which
+/// pa_robust's identification integrates: `measured` (the plant's surface position after delay,
+/// lag and limits, when the plant reports it) or `commanded` (the controller's own last command,
+/// for a controller without a surface-position sensor).
+enum class ElevatorFeedback { kMeasured, kCommanded };
+
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig {
   std::string mode = "pa_learn";      ///< a registered mode (mode_registry.hpp)
@@ -33,6 +39,8 @@ struct ControllerConfig {
   int confirm_samples = 0;            ///< attention debounce: crossings must hold this many samples
   double hysteresis = 0.0;            ///< attention: recovery threshold is c_e - hysteresis [rad]
   bool freeze_when_saturated = true;  ///< no adaptation while the elevator is at a limit
+  /// controller.adaptation.elevator_feedback: what the identification takes as applied
+  ElevatorFeedback elevator_feedback = ElevatorFeedback::kMeasured;
   bool projection = false;          ///< smooth projection of theta_hat onto ||theta|| <= theta_max
   double theta_max = 25.0;          ///< radius of Omega (used once projection is enabled)
   double projection_epsilon = 0.1;  ///< width of the projection's boundary layer (> 0)
