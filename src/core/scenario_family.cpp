@@ -84,6 +84,38 @@ Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index
   return sc;
 }
 
+double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
+                     std::uint64_t stream) {
+  if (!range.drawn()) return range.lo;
+  // A stream of its own, apart from the scenario's theta draws (mix(seed, index)).
+  Uniform u(mix(mix(seed, static_cast<std::uint64_t>(index)), stream + 1));
+  return u.in(range.lo, range.hi);
+}
+
+std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
+                                                                const ConditionRange& range,
+                                                                std::uint64_t seed, int index) {
+  std::vector<Scenario::EffectivenessSegment> out;
+  std::vector<std::pair<Eigen::VectorXd, double>> seen;
+  int draws = 0;
+  for (size_t i = 0; i < s.theta.size(); ++i) {
+    const Eigen::VectorXd& th = s.theta[i].theta;
+    double lambda = 1.0;  // the first segment: the trim before any regime
+    bool found = false;
+    for (const auto& kv : seen)
+      if (kv.first == th) {
+        lambda = kv.second;
+        found = true;
+      }
+    if (!found) {
+      if (i > 0) lambda = drawCondition(range, seed, index, 1000 + draws++);
+      seen.emplace_back(th, lambda);
+    }
+    out.push_back({s.theta[i].until, lambda});
+  }
+  return out;
+}
+
 std::vector<bool> repeatedWindows(const Scenario& s) {
   std::vector<bool> out(s.theta.size(), false);
   for (size_t i = 1; i < s.theta.size(); ++i)
