@@ -143,8 +143,21 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
   std::vector<double> all;
   int better = 0, halved = 0;
   for (size_t k = 0; k < mode.size() && k < rac.size() && k < repeated.size(); ++k) {
+    // A run lost to divergence (IAE not finite): its windows after the blow-up hold peaks of 0
+    // (|e| NaN compares false), which must count as the worst, not as better than rac.
+    const bool lost = !std::isfinite(mode[k].iae);
+    size_t blow_up = mode[k].peak.size();
+    if (lost) {
+      s.lost_runs += 1;
+      double top = -1.0;
+      for (size_t w = 0; w < mode[k].peak.size(); ++w)
+        if (!(mode[k].peak[w] <= top)) {  // NaN or larger
+          top = std::isfinite(mode[k].peak[w]) ? mode[k].peak[w] : HUGE_VAL;
+          blow_up = w;
+        }
+    }
     for (size_t w = 1; w < mode[k].peak.size() && w < rac[k].peak.size(); ++w) {
-      const double q = ratio(mode[k].peak[w], rac[k].peak[w]);
+      const double q = w >= blow_up ? HUGE_VAL : ratio(mode[k].peak[w], rac[k].peak[w]);
       all.push_back(q);
       if (w < repeated[k].size() && repeated[k][w]) {
         s.ratios.push_back(q);
@@ -152,13 +165,14 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
         halved += q <= 0.5;
       }
     }
-    const double qi = ratio(mode[k].iae, rac[k].iae);
+    const double qi = lost ? HUGE_VAL : ratio(mode[k].iae, rac[k].iae);
     s.worst_iae_ratio = std::max(s.worst_iae_ratio, qi);
     s.iae_over += qi > 1.05;
-    s.worst_u_rac = std::max(s.worst_u_rac, ratio(mode[k].max_abs_u, rac[k].max_abs_u));
+    s.worst_u_rac =
+        std::max(s.worst_u_rac, lost ? HUGE_VAL : ratio(mode[k].max_abs_u, rac[k].max_abs_u));
     if (oracle && k < oracle->size())
-      s.worst_u_oracle =
-          std::max(s.worst_u_oracle, ratio(mode[k].max_abs_u, (*oracle)[k].max_abs_u));
+      s.worst_u_oracle = std::max(
+          s.worst_u_oracle, lost ? HUGE_VAL : ratio(mode[k].max_abs_u, (*oracle)[k].max_abs_u));
   }
   s.windows = static_cast<int>(s.ratios.size());
   if (s.windows > 0) {

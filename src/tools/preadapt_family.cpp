@@ -319,6 +319,7 @@ int main(int argc, char** argv) {
                   m.c_str(), 100.0 * s.frac_better, 100.0 * s.frac_halved, s.median_ratio,
                   s.worst_ratio, s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio,
                   s.iae_over, s.worst_u_rac, s.worst_u_oracle);
+      if (s.lost_runs > 0) std::printf("%-15s %d runs lost (diverged)\n", m.c_str(), s.lost_runs);
       if (json) {
         nlohmann::ordered_json o;
         o["mode"] = m;
@@ -339,6 +340,7 @@ int main(int argc, char** argv) {
         o["worst_u_rac"] = s.worst_u_rac;
         o["worst_u_oracle"] = s.worst_u_oracle;
         o["ratios"] = s.ratios;
+        if (s.lost_runs > 0) o["lost_runs"] = s.lost_runs;
         std::printf("%s\n", o.dump().c_str());
       }
     }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "preadaptive_mrac/core/scenario_family.hpp"
@@ -162,3 +163,21 @@ TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   EXPECT_NE(out.find("controller.robust.margin"), std::string::npos) << out;
 }
 #endif
+
+TEST(Family, ALostRunCountsAsWorstNotBetter) {
+  // A run that diverges in window 1: its later windows hold peak 0 (|e| NaN compares false) and
+  // its IAE is NaN. They are the worst windows of the family, not halved ones.
+  const std::vector<std::vector<bool>> repeated = {{false, false, true, true}};
+  const std::vector<RunDigest> rac = {{{1, 1, 1, 1}, 10.0, 1.0}};
+  const std::vector<RunDigest> mode = {{{0.5, 8e301, 0.0, 0.0}, std::nan(""), std::nan("")}};
+  const FamilySummary s = summarizeFamily(repeated, rac, mode, &rac);
+  EXPECT_EQ(s.lost_runs, 1);
+  EXPECT_EQ(s.windows, 2);
+  EXPECT_EQ(s.frac_better, 0.0);
+  EXPECT_EQ(s.frac_halved, 0.0);
+  EXPECT_TRUE(std::isinf(s.worst_ratio));
+  EXPECT_TRUE(std::isinf(s.median_ratio));
+  EXPECT_TRUE(std::isinf(s.worst_iae_ratio));
+  EXPECT_EQ(s.iae_over, 1);
+  EXPECT_TRUE(std::isinf(s.worst_u_oracle));
+}

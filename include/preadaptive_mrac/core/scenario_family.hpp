@@ -73,6 +73,7 @@ struct FamilySummary {
   double worst_u_rac = 0.0;      ///< largest max|u| ratio to rac
   double worst_u_oracle = 0.0;   ///< largest max|u| ratio to the oracle (0 without oracle)
   std::vector<double> ratios;    ///< every repeated-window ratio (for figures)
+  int lost_runs = 0;  ///< runs whose IAE is not finite: their windows from the blow-up count inf
 };
 
 /// \brief Compare `mode` with `rac` scenario by scenario; `oracle` may be null.
