@@ -349,14 +349,8 @@ std::vector<double> lockstepTheta(ElevatorFeedback feedback, bool pass_applied) 
   ScenarioPlant plant(cfg.plant, cfg.scenario, cfg.controller.sample_time);
   std::vector<double> th;
   for (int k = 0; k < 25000 && !plant.done(); ++k) {  // past the switch at 20 s
-    StepInput in;
-    in.t = plant.time();
-    in.x = &plant.measured();
-    in.r = plant.reference();
-    in.theta_true = &plant.theta();
     const double applied = plant.lastApplied();
-    if (pass_applied) in.u_applied = &applied;
-    const StepOutput out = ctl.step(in);
+    const StepOutput out = ctl.step(test::lockstepInput(plant, pass_applied ? &applied : nullptr));
     th.push_back(out.theta_hat[0]);
     plant.advance(out.u);
   }
