@@ -168,7 +168,11 @@ StepOutput Controller::step(const StepInput& in) {
   smp.ev = &ev_;
   smp.e = out.e;
   smp.e_dot = out.e_dot;
-  smp.u_prev = in.u_applied != nullptr ? *in.u_applied : u_cmd_prev_;
+  // The surface position when the plant reports it and the configuration takes it; else the
+  // controller's own last command (then a delay or lag is model error to the identification).
+  smp.u_prev = in.u_applied != nullptr && cfg_.elevator_feedback == ElevatorFeedback::kMeasured
+                   ? *in.u_applied
+                   : u_cmd_prev_;
   smp.r_prev = r_prev_;
   // The law's estimate: strategies read and reset it here, the law advances it below.
   Vec& theta_hat = *law_->mutableEstimate();

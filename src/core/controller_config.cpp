@@ -17,6 +17,15 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
   const std::int64_t seed = r.getInt(p + ".preadaptation.seed");
   if (seed < 0) r.fail(p + ".preadaptation.seed", "must be >= 0, got " + std::to_string(seed));
   c.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+  // Absent = measured, without a note in the defaults list: a run without the key reports
+  // byte for byte what it reported before the key.
+  const std::string fb = p + ".adaptation.elevator_feedback";
+  if (r.has(fb)) {
+    const std::string v = r.getString(fb);
+    if (r.usable(fb) && !parseChoice(v, &c.elevator_feedback))
+      r.fail(fb, std::string("expected one of ") + choiceNames(c.elevator_feedback) + ", got '" +
+                     v + "'");
+  }
   c.robust = RobustConfig::read(r, p + ".robust");
   c.l1 = L1Config::read(r, p + ".l1");
   c.validate(r, n, p);

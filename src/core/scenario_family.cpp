@@ -84,6 +84,38 @@ Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index
   return sc;
 }
 
+double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
+                     std::uint64_t stream) {
+  if (!range.drawn()) return range.lo;
+  // A stream of its own, apart from the scenario's theta draws (mix(seed, index)).
+  Uniform u(mix(mix(seed, static_cast<std::uint64_t>(index)), stream + 1));
+  return u.in(range.lo, range.hi);
+}
+
+std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
+                                                                const ConditionRange& range,
+                                                                std::uint64_t seed, int index) {
+  std::vector<Scenario::EffectivenessSegment> out;
+  std::vector<std::pair<Eigen::VectorXd, double>> seen;
+  int draws = 0;
+  for (size_t i = 0; i < s.theta.size(); ++i) {
+    const Eigen::VectorXd& th = s.theta[i].theta;
+    double lambda = 1.0;  // the first segment: the trim before any regime
+    bool found = false;
+    for (const auto& kv : seen)
+      if (kv.first == th) {
+        lambda = kv.second;
+        found = true;
+      }
+    if (!found) {
+      if (i > 0) lambda = drawCondition(range, seed, index, 1000 + draws++);
+      seen.emplace_back(th, lambda);
+    }
+    out.push_back({s.theta[i].until, lambda});
+  }
+  return out;
+}
+
 std::vector<bool> repeatedWindows(const Scenario& s) {
   std::vector<bool> out(s.theta.size(), false);
   for (size_t i = 1; i < s.theta.size(); ++i)
@@ -111,8 +143,21 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
   std::vector<double> all;
   int better = 0, halved = 0;
   for (size_t k = 0; k < mode.size() && k < rac.size() && k < repeated.size(); ++k) {
+    // A run lost to divergence (IAE not finite): its windows after the blow-up hold peaks of 0
+    // (|e| NaN compares false), which must count as the worst, not as better than rac.
+    const bool lost = !std::isfinite(mode[k].iae);
+    size_t blow_up = mode[k].peak.size();
+    if (lost) {
+      s.lost_runs += 1;
+      double top = -1.0;
+      for (size_t w = 0; w < mode[k].peak.size(); ++w)
+        if (!(mode[k].peak[w] <= top)) {  // NaN or larger
+          top = std::isfinite(mode[k].peak[w]) ? mode[k].peak[w] : HUGE_VAL;
+          blow_up = w;
+        }
+    }
     for (size_t w = 1; w < mode[k].peak.size() && w < rac[k].peak.size(); ++w) {
-      const double q = ratio(mode[k].peak[w], rac[k].peak[w]);
+      const double q = w >= blow_up ? HUGE_VAL : ratio(mode[k].peak[w], rac[k].peak[w]);
       all.push_back(q);
       if (w < repeated[k].size() && repeated[k][w]) {
         s.ratios.push_back(q);
@@ -120,13 +165,14 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
         halved += q <= 0.5;
       }
     }
-    const double qi = ratio(mode[k].iae, rac[k].iae);
+    const double qi = lost ? HUGE_VAL : ratio(mode[k].iae, rac[k].iae);
     s.worst_iae_ratio = std::max(s.worst_iae_ratio, qi);
     s.iae_over += qi > 1.05;
-    s.worst_u_rac = std::max(s.worst_u_rac, ratio(mode[k].max_abs_u, rac[k].max_abs_u));
+    s.worst_u_rac =
+        std::max(s.worst_u_rac, lost ? HUGE_VAL : ratio(mode[k].max_abs_u, rac[k].max_abs_u));
     if (oracle && k < oracle->size())
-      s.worst_u_oracle =
-          std::max(s.worst_u_oracle, ratio(mode[k].max_abs_u, (*oracle)[k].max_abs_u));
+      s.worst_u_oracle = std::max(
+          s.worst_u_oracle, lost ? HUGE_VAL : ratio(mode[k].max_abs_u, (*oracle)[k].max_abs_u));
   }
   s.windows = static_cast<int>(s.ratios.size());
   if (s.windows > 0) {

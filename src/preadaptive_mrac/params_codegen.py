@@ -47,10 +47,38 @@ def cpp_number(v):
     return s if ('e' in s or '.' in s or 'inf' in s) else s + '.0'
 
 
+def enumerator(choice):
+    return 'k' + ''.join(w.capitalize() for w in choice.split('_'))
+
+
+def enum_text(table):
+    """An enum for each row with `choices`, and its parser (the read is the component's)."""
+    out = []
+    for row in table['params']:
+        if 'choices' not in row:
+            continue
+        t = row['cpp_type']
+        names = ', '.join(row['choices'])
+        out.append(comment('The values of `%s.%s`: %s.' % (table['prefix'], row['key'], names), ''))
+        out.append(
+            'enum class %s { %s };\n' % (t, ', '.join(enumerator(c) for c in row['choices']))
+        )
+        out.append('/// \\brief The value named `name`; false when none is.\n')
+        out.append('inline bool parseChoice(const std::string& name, %s* v) {\n' % t)
+        for c in row['choices']:
+            out.append('  if (name == "%s") return *v = %s::%s, true;\n' % (c, t, enumerator(c)))
+        out.append('  return false;\n}\n')
+        out.append('/// \\brief The names, for messages.\n')
+        out.append('inline const char* choiceNames(%s) { return "%s"; }\n\n' % (t, names))
+    return ''.join(out)
+
+
 def cpp_default(row):
     """The member's initialiser ('' for a matrix or vector: sized by the plant)."""
     t = cpp_type(row)
     v = row.get('default')
+    if 'choices' in row:
+        return ' = %s::%s' % (t, enumerator(v))
     if t.startswith('Eigen::') or v is None:
         return ''
     if t == 'bool':
@@ -254,7 +282,7 @@ def header(component):
             component,
             component,
             '\n'.join('#include %s' % i for i in includes),
-            struct_text(table),
+            enum_text(table) + struct_text(table),
             tunables_text(component) + ('\n' if tunables_text(component) else ''),
         )
     )

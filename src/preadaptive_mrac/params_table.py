@@ -14,8 +14,9 @@ default where a value cannot be shown (a matrix, a section).
 
 For the generated C++ (params_codegen.py): the table's `struct` names the generated struct of
 its values; a row's `field` its member (default: the key's last part), `cpp_type` a member type
-other than the type's own, `read: custom` a value the component's read() reads itself (a
-string checked against the registry, a matrix or vector sized by the plant), and a section row's
+other than the type's own (with `choices`: the enum of them, generated with its parser),
+`read: custom` a value the component's read() reads itself (a string checked against the
+registry, a matrix or vector sized by the plant, a choice), and a section row's
 `absent_note` what the start-up line says when the section is left out. A section row with
 `table` is a part's own table (params/<table>.yaml, with `part_of` and its own `absent_note`:
 pa_robust's, the L1 law's): load() expands its rows under the section's key, so every derived
@@ -88,6 +89,8 @@ def check_text(c):
 def range_text(row, modes=None):
     if row.get('range') == '@modes':
         return ', '.join('`%s`' % m for m in modes)
+    if 'choices' in row:
+        return ', '.join('`%s`' % c for c in row['choices'])
     if 'check' in row:
         return check_text(row['check']) + row.get('range_note', '')
     return row.get('range', '–')

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -29,8 +31,29 @@ const char* kAbout =
     "halved (<= 0.5), the median and worst ratio; per scenario the worst IAE ratio and max|u| "
     "ratio to rac and to the oracle. --out-dir writes scenario_K.yaml and runs.jsonl (one "
     "preadapt_sim --json line per run). --delay, --time-constant, --effectiveness and "
-    "--turbulence run every mode under those plant conditions (docs/conditions.md). Exit code 2 "
-    "on bad input.";
+    "--turbulence run every mode under those plant conditions (docs/conditions.md); each takes "
+    "one value or a range LO:HI, drawn uniformly per scenario from the family seed (the same "
+    "for every mode; --effectiveness LO:HI draws one Lambda per regime, the first segment 1), "
+    "reported in runs.jsonl as drawn_conditions. Exit code 2 on bad input.";
+
+// "LO:HI" of a condition flag, each end within [min, max] (min excluded when min_open).
+ConditionRange parseRange(const std::string& flag, const std::string& text, double min,
+                          bool min_open, double max) {
+  const size_t colon = text.find(':');
+  ConditionRange r;
+  r.lo = cli::parseDouble(flag, text.substr(0, colon));
+  r.hi = cli::parseDouble(flag, text.substr(colon + 1));
+  if (!(r.lo < r.hi))
+    throw cli::UsageError(flag + ": a range LO:HI needs LO < HI, got '" + text + "'");
+  if (!((min_open ? r.lo > min : r.lo >= min) && r.hi <= max)) {
+    const std::string within = max < std::numeric_limits<double>::max()
+                                   ? std::string("in ") + (min_open ? "(" : "[") +
+                                         formatNumber(min) + ", " + formatNumber(max) + "]"
+                                   : ">= " + formatNumber(min);
+    throw cli::UsageError(flag + ": both ends must be " + within + ", got '" + text + "'");
+  }
+  return r;
+}
 
 struct Job {
   int scenario = 0;
@@ -111,19 +134,31 @@ int main(int argc, char** argv) {
     if (!seed) throw cli::UsageError("--seed is required (the family's generator seed)");
     // The conditions go in as --set overrides, so the keys' own validation names them.
     std::string conditions;
+    // A range LO:HI is drawn per scenario below instead (the keys are set on each run).
     const auto condition = [&](const std::string& flag, const std::string& text,
-                               const std::string& key) {
+                               const std::string& key, double max, ConditionRange* range) {
       if (text.empty()) return;
+      if (text.find(':') != std::string::npos) {
+        *range = parseRange(flag, text, 0.0, false, max);
+        conditions += (conditions.empty() ? "" : ", ") + key + " " + text + " (per scenario)";
+        return;
+      }
       cli::parseDouble(flag, text);
       base.sets.push_back(key + "=" + text);
       conditions += (conditions.empty() ? "" : ", ") + key + " " + text;
     };
-    condition("--delay", delay_t, "plant.actuator.delay");
-    condition("--time-constant", lag_t, "plant.actuator.time_constant");
-    condition("--turbulence", gust_t, "plant.turbulence.sigma_w");
+    ConditionRange delay_r, lag_r, gust_r, lambda_r;
+    const double unbounded = std::numeric_limits<double>::max();
+    condition("--delay", delay_t, "plant.actuator.delay", kMaxDelay, &delay_r);
+    condition("--time-constant", lag_t, "plant.actuator.time_constant", unbounded, &lag_r);
+    condition("--turbulence", gust_t, "plant.turbulence.sigma_w", unbounded, &gust_r);
     if (!gust_t.empty()) base.sets.push_back("plant.turbulence.enabled=true");
     std::optional<double> lambda;
-    if (!lambda_t.empty()) {
+    if (lambda_t.find(':') != std::string::npos) {
+      lambda_r = parseRange("--effectiveness", lambda_t, 0.0, true, 2.0);
+      conditions += (conditions.empty() ? "" : ", ") + std::string("effectiveness ") + lambda_t +
+                    " (per regime, the first segment 1)";
+    } else if (!lambda_t.empty()) {
       lambda = cli::parseDouble("--effectiveness", lambda_t);
       if (!(*lambda > 0.0 && *lambda <= 2.0))
         throw cli::UsageError("--effectiveness: elevator effectiveness must be in (0, 2], got " +
@@ -146,9 +181,37 @@ int main(int argc, char** argv) {
     std::vector<Scenario> scenarios;
     std::vector<std::vector<bool>> repeated;
     std::vector<Job> list;
+    // What each scenario drew (runs.jsonl's drawn_conditions), and the span over the family.
+    std::vector<nlohmann::ordered_json> drawn(static_cast<size_t>(count));
+    std::map<std::string, std::pair<double, double>> span;
+    const auto draw = [&](int k, const ConditionRange& r, std::uint64_t stream,
+                          const std::string& key) -> std::optional<double> {
+      if (!r.drawn()) return std::nullopt;
+      const double v = drawCondition(r, *seed, k, stream);
+      drawn[static_cast<size_t>(k)][key] = v;
+      auto it = span.emplace(key, std::make_pair(v, v)).first;
+      it->second = {std::min(it->second.first, v), std::max(it->second.second, v)};
+      return v;
+    };
     for (int k = 0; k < count; ++k) {
       scenarios.push_back(recurringScenario(spec, *seed, k));
       if (lambda) scenarios.back().effectiveness = {{scenarios.back().endTime(), *lambda}};
+      if (lambda_r.drawn()) {
+        auto& sc = scenarios.back();
+        sc.effectiveness = regimeEffectiveness(sc, lambda_r, *seed, k);
+        auto& list = drawn[static_cast<size_t>(k)]["effectiveness"] =
+            nlohmann::ordered_json::array();
+        for (const auto& seg : sc.effectiveness) {
+          list.push_back(seg.value);
+          if (seg.until == sc.theta.front().until) continue;  // the first segment's 1
+          auto it = span.emplace("effectiveness", std::make_pair(seg.value, seg.value)).first;
+          it->second = {std::min(it->second.first, seg.value),
+                        std::max(it->second.second, seg.value)};
+        }
+      }
+      const auto delay = draw(k, delay_r, 1, "plant.actuator.delay");
+      const auto lag = draw(k, lag_r, 2, "plant.actuator.time_constant");
+      const auto gust = draw(k, gust_r, 3, "plant.turbulence.sigma_w");
       repeated.push_back(repeatedWindows(scenarios.back()));
       if (!out_dir.empty()) {
         std::ofstream f(out_dir + "/scenario_" + std::to_string(k) + ".yaml");
@@ -167,6 +230,9 @@ int main(int argc, char** argv) {
           for (int i = 1; i < spec.n; ++i) job.cfg.plant.noise.std[i] = noise;
           job.cfg.plant.noise.seed = *seed * 1000003ULL + static_cast<std::uint64_t>(k);
         }
+        if (delay) job.cfg.plant.dynamics.delay = *delay;
+        if (lag) job.cfg.plant.dynamics.time_constant = *lag;
+        if (gust) job.cfg.plant.turbulence.sigma_w = *gust;
         // A gust of its own per scenario, the same for every mode (paired comparison).
         if (!gust_t.empty())
           job.cfg.plant.turbulence.seed = *seed * 1000033ULL + static_cast<std::uint64_t>(k);
@@ -198,6 +264,12 @@ int main(int argc, char** argv) {
             info.seed = job.cfg.controller.seed;
             info.dt = opt.dt;
             job.json = runSummaryJson(info, ctl, res);
+            const auto& d = drawn[static_cast<size_t>(job.scenario)];
+            if (!d.empty()) {
+              nlohmann::ordered_json line = nlohmann::ordered_json::parse(job.json);
+              line["drawn_conditions"] = d;
+              job.json = line.dump();
+            }
           }
         } catch (const std::exception& e) {
           std::lock_guard<std::mutex> lk(mu);
@@ -235,6 +307,9 @@ int main(int argc, char** argv) {
         "repeated-switch windows\n",
         static_cast<unsigned long long>(*seed), count, spec.regimes, spec.segments, noise, rep);
     if (!conditions.empty()) std::printf("plant conditions: %s\n", conditions.c_str());
+    for (const auto& kv : span)
+      std::printf("drawn: %s in [%.6g, %.6g]\n", kv.first.c_str(), kv.second.first,
+                  kv.second.second);
     std::printf("%-15s %7s %7s %7s %7s | %8s %7s | %8s %5s | %8s %8s\n", "mode", "better", "halved",
                 "median", "worst", "all:med", "worst", "IAE:wst", ">5%", "u/rac", "u/oracle");
     for (const auto& m : modes) {
@@ -244,6 +319,7 @@ int main(int argc, char** argv) {
                   m.c_str(), 100.0 * s.frac_better, 100.0 * s.frac_halved, s.median_ratio,
                   s.worst_ratio, s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio,
                   s.iae_over, s.worst_u_rac, s.worst_u_oracle);
+      if (s.lost_runs > 0) std::printf("%-15s %d runs lost (diverged)\n", m.c_str(), s.lost_runs);
       if (json) {
         nlohmann::ordered_json o;
         o["mode"] = m;
@@ -251,6 +327,7 @@ int main(int argc, char** argv) {
         o["count"] = count;
         o["noise"] = noise;
         if (!conditions.empty()) o["conditions"] = conditions;
+        for (const auto& kv : span) o["drawn"][kv.first] = {kv.second.first, kv.second.second};
         o["windows"] = s.windows;
         o["frac_better"] = s.frac_better;
         o["frac_halved"] = s.frac_halved;
@@ -263,6 +340,7 @@ int main(int argc, char** argv) {
         o["worst_u_rac"] = s.worst_u_rac;
         o["worst_u_oracle"] = s.worst_u_oracle;
         o["ratios"] = s.ratios;
+        if (s.lost_runs > 0) o["lost_runs"] = s.lost_runs;
         std::printf("%s\n", o.dump().c_str());
       }
     }

@@ -1,6 +1,8 @@
 // The recurring-regime scenario family and its report (docs/robust.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "preadaptive_mrac/core/scenario_family.hpp"
@@ -44,6 +46,50 @@ TEST(Family, DeterministicAndSeedDependent) {
   EXPECT_EQ(scenarioToYaml(a), scenarioToYaml(b));
   EXPECT_NE(scenarioToYaml(a), scenarioToYaml(c));
   EXPECT_NE(scenarioToYaml(a), scenarioToYaml(d));
+}
+
+TEST(Family, ConditionDrawsStayInTheirRangeAndAreDeterministic) {
+  const ConditionRange r{0.02, 0.08};
+  double lo = 1.0, hi = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    const double v = drawCondition(r, 77, k, 2);
+    EXPECT_GE(v, r.lo);
+    EXPECT_LE(v, r.hi);
+    EXPECT_EQ(v, drawCondition(r, 77, k, 2));  // the same scenario, the same value
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  EXPECT_LT(lo, 0.03);  // spread over the range, not stuck at one end
+  EXPECT_GT(hi, 0.07);
+  EXPECT_NE(drawCondition(r, 77, 0, 2), drawCondition(r, 78, 0, 2));  // the family seed
+  EXPECT_NE(drawCondition(r, 77, 0, 1), drawCondition(r, 77, 0, 2));  // each condition its own
+  EXPECT_EQ(drawCondition({0.05, 0.05}, 77, 3, 1), 0.05);             // one value: no draw
+}
+
+TEST(Family, EffectivenessPerRegimeFirstSegmentOne) {
+  FamilySpec spec;
+  const ConditionRange r{0.4, 1.0};
+  for (int k = 0; k < 20; ++k) {
+    const Scenario s = recurringScenario(spec, 77, k);
+    const auto eff = regimeEffectiveness(s, r, 77, k);
+    ASSERT_EQ(eff.size(), s.theta.size());
+    EXPECT_EQ(eff[0].value, 1.0);
+    std::map<std::vector<double>, double> of;
+    for (size_t i = 0; i < s.theta.size(); ++i) {
+      EXPECT_EQ(eff[i].until, s.theta[i].until);
+      if (i == 0) continue;
+      EXPECT_GE(eff[i].value, r.lo);
+      EXPECT_LE(eff[i].value, r.hi);
+      const auto& th = s.theta[i].theta;
+      const auto key = std::vector<double>(th.data(), th.data() + th.size());
+      if (of.count(key) == 0) of[key] = eff[i].value;
+      EXPECT_EQ(of[key], eff[i].value) << "a revisited regime, another Lambda";
+    }
+    EXPECT_EQ(of.size(), static_cast<size_t>(spec.regimes));
+    EXPECT_EQ(scenarioToYaml(s), scenarioToYaml(recurringScenario(spec, 77, k)));  // untouched
+    const auto again = regimeEffectiveness(s, r, 77, k);
+    for (size_t i = 0; i < eff.size(); ++i) EXPECT_EQ(again[i].value, eff[i].value);
+  }
 }
 
 TEST(Family, YamlReadsBackExactly) {
@@ -117,3 +163,21 @@ TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   EXPECT_NE(out.find("controller.robust.margin"), std::string::npos) << out;
 }
 #endif
+
+TEST(Family, ALostRunCountsAsWorstNotBetter) {
+  // A run that diverges in window 1: its later windows hold peak 0 (|e| NaN compares false) and
+  // its IAE is NaN. They are the worst windows of the family, not halved ones.
+  const std::vector<std::vector<bool>> repeated = {{false, false, true, true}};
+  const std::vector<RunDigest> rac = {{{1, 1, 1, 1}, 10.0, 1.0}};
+  const std::vector<RunDigest> mode = {{{0.5, 8e301, 0.0, 0.0}, std::nan(""), std::nan("")}};
+  const FamilySummary s = summarizeFamily(repeated, rac, mode, &rac);
+  EXPECT_EQ(s.lost_runs, 1);
+  EXPECT_EQ(s.windows, 2);
+  EXPECT_EQ(s.frac_better, 0.0);
+  EXPECT_EQ(s.frac_halved, 0.0);
+  EXPECT_TRUE(std::isinf(s.worst_ratio));
+  EXPECT_TRUE(std::isinf(s.median_ratio));
+  EXPECT_TRUE(std::isinf(s.worst_iae_ratio));
+  EXPECT_EQ(s.iae_over, 1);
+  EXPECT_TRUE(std::isinf(s.worst_u_oracle));
+}

@@ -33,5 +33,17 @@ inline SimResult simulate(const RunConfig& cfg) {
   return loop.run(opt);
 }
 
+/// \brief The controller's input at the plant's current sample, as the batch loop builds it;
+/// `u_applied` (may be null: a plant that reports no surface position) must outlive the step.
+inline StepInput lockstepInput(const ScenarioPlant& plant, const double* u_applied) {
+  StepInput in;
+  in.t = plant.time();
+  in.x = &plant.measured();
+  in.r = plant.reference();
+  in.theta_true = &plant.theta();
+  in.u_applied = u_applied;
+  return in;
+}
+
 }  // namespace test
 }  // namespace preadaptive_mrac

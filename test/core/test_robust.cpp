@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/core/regime_memory.hpp"
@@ -333,4 +335,58 @@ TEST(Robust, ConcurrentLearningDoesNoHarmAlongTheRecentData) {
   // And the run as a whole stays better than rac (IAE 0.56 of rac's, the first visits
   // included).
   EXPECT_LT(robust.metrics.iae, 0.75 * rac.metrics.iae);
+}
+
+namespace {
+// pa_robust in lockstep with a 40 ms delay and a 50 ms servo lag; the plant's applied elevator
+// is passed to the controller or not. Returns theta_hat[0] at every step.
+std::vector<double> lockstepTheta(ElevatorFeedback feedback, bool pass_applied) {
+  RunConfig cfg = robustConfig();
+  cfg.plant.dynamics.delay = 0.04;
+  cfg.plant.dynamics.time_constant = 0.05;
+  cfg.controller.elevator_feedback = feedback;
+  Controller ctl(cfg.plant, cfg.controller);
+  ScenarioPlant plant(cfg.plant, cfg.scenario, cfg.controller.sample_time);
+  std::vector<double> th;
+  for (int k = 0; k < 25000 && !plant.done(); ++k) {  // past the switch at 20 s
+    const double applied = plant.lastApplied();
+    const StepOutput out = ctl.step(test::lockstepInput(plant, pass_applied ? &applied : nullptr));
+    th.push_back(out.theta_hat[0]);
+    plant.advance(out.u);
+  }
+  return th;
+}
+}  // namespace
+
+// controller.adaptation.elevator_feedback: commanded ignores the surface position the plant
+// reports (as if it reported none), measured uses it, and the key is read and checked.
+TEST(Robust, CommandedFeedbackIgnoresTheReportedSurfacePosition) {
+  const auto commanded = lockstepTheta(ElevatorFeedback::kCommanded, true);
+  const auto no_sensor = lockstepTheta(ElevatorFeedback::kMeasured, false);
+  const auto measured = lockstepTheta(ElevatorFeedback::kMeasured, true);
+  ASSERT_EQ(commanded.size(), no_sensor.size());
+  EXPECT_EQ(0, std::memcmp(commanded.data(), no_sensor.data(), commanded.size() * sizeof(double)));
+  EXPECT_NE(commanded, measured);  // under a delay and a lag the two differ
+
+  ParamValue tree = test::packageTree("1");
+  EXPECT_EQ(readRunConfig(tree).controller.elevator_feedback, ElevatorFeedback::kMeasured);
+  tree.setPath("controller.adaptation.elevator_feedback", ParamValue::makeString("commanded"));
+  EXPECT_EQ(readRunConfig(tree).controller.elevator_feedback, ElevatorFeedback::kCommanded);
+  for (const ParamValue& bad : {ParamValue::makeString("sensor"), ParamValue::makeDouble(1.0)}) {
+    tree.setPath("controller.adaptation.elevator_feedback", bad);
+    try {
+      readRunConfig(tree);
+      FAIL() << "elevator_feedback " << bad.describe() << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("controller.adaptation.elevator_feedback"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // Absent: measured, and not in the defaults line (the JSON summary stays the baseline's).
+  tree.child("controller").child("adaptation").map().erase("elevator_feedback");
+  const RunConfig absent = readRunConfig(tree);
+  EXPECT_EQ(absent.controller.elevator_feedback, ElevatorFeedback::kMeasured);
+  for (const auto& d : absent.defaults_used)
+    EXPECT_EQ(d.find("elevator_feedback"), std::string::npos) << d;
 }

@@ -31,14 +31,8 @@ Trace run(const RunConfig& rc, const std::string& mode, std::int64_t steps,
   Trace tr;
   for (std::int64_t k = 0; k < steps && !plant.done(); ++k) {
     if (hook) hook(k, &ctl);
-    StepInput in;
-    in.t = plant.time();
-    in.x = &plant.measured();
-    in.r = plant.reference();
-    in.theta_true = &plant.theta();
     const double applied = plant.lastApplied();
-    in.u_applied = &applied;
-    const StepOutput out = ctl.step(in);
+    const StepOutput out = ctl.step(test::lockstepInput(plant, &applied));
     tr.u.push_back(out.u);
     tr.e.push_back(out.e);
     tr.th0.push_back(out.theta_hat[0]);

@@ -31,6 +31,24 @@ struct FamilySpec {
 /// \brief Scenario `index` of the family `seed` (deterministic on every platform).
 Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index);
 
+/// \brief A plant condition drawn per scenario of a family: uniform in [lo, hi]; lo == hi is
+/// that one value, drawn by no one.
+struct ConditionRange {
+  double lo = 0.0, hi = 0.0;
+  bool drawn() const { return hi > lo; }
+};
+
+/// \brief The value of `range` for scenario `index` of family `seed` (deterministic on every
+/// platform); `stream` keeps the draws of different conditions apart.
+double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
+                     std::uint64_t stream);
+
+/// \brief An effectiveness schedule for `s` with one Lambda per distinct theta (regime), uniform
+/// in `range`, the first segment's 1: a regime revisited brings its own Lambda back.
+std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
+                                                                const ConditionRange& range,
+                                                                std::uint64_t seed, int index);
+
 /// \brief Windows (0 = the first segment) whose theta equals that of an earlier segment.
 std::vector<bool> repeatedWindows(const Scenario& s);
 
@@ -55,6 +73,7 @@ struct FamilySummary {
   double worst_u_rac = 0.0;      ///< largest max|u| ratio to rac
   double worst_u_oracle = 0.0;   ///< largest max|u| ratio to the oracle (0 without oracle)
   std::vector<double> ratios;    ///< every repeated-window ratio (for figures)
+  int lost_runs = 0;  ///< runs whose IAE is not finite: their windows from the blow-up count inf
 };
 
 /// \brief Compare `mode` with `rac` scenario by scenario; `oracle` may be null.
