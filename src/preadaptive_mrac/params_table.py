@@ -117,11 +117,30 @@ def default_text(row):
     }[row['presence']] % v
 
 
+def docs_name(prefix, row):
+    """The name column: `plant.A`, or `~dt` (plant_sim_node) for a node's private key."""
+    if prefix == '~':
+        return '`~%s` (%s)' % (row['key'], ', '.join(row['nodes']))
+    return '`%s.%s`' % (prefix, row['key'])
+
+
+# The tables docs/parameters.md renders, in the order of its rows.
+DOC_TABLES = ('controller', 'plant', 'scenario', 'nodes')
+
+
+def docs_rows(modes=None):
+    """Every row of docs/parameters.md's table, from the tables."""
+    out = []
+    for component in DOC_TABLES:
+        t = load(component)
+        out += [docs_row(t['prefix'], r, modes) for r in t['params']]
+    return out
+
+
 def docs_row(prefix, row, modes=None):
     """The row of docs/parameters.md."""
-    return '| `%s.%s` | %s | %s | %s | %s | %s |' % (
-        prefix,
-        row['key'],
+    return '| %s | %s | %s | %s | %s | %s |' % (
+        docs_name(prefix, row),
         row['type'],
         row.get('unit', '–'),
         default_text(row),

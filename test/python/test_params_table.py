@@ -73,6 +73,19 @@ class TestControllerTable(unittest.TestCase):
         for key, row in want.items():
             self.assertEqual(doc[key], row, key)
 
+    def test_every_docs_row_is_a_table_row(self):
+        """docs/parameters.md's table holds the rows of every table (controller with its parts,
+        plant, scenario, nodes) in that order, and nothing else."""
+        doc = [
+            line
+            for line in read('docs/parameters.md').splitlines()
+            if line.startswith('| `') and not line.startswith('| `name`')
+        ]
+        want = params_table.docs_rows(registered_modes())
+        self.assertEqual(len(doc), len(want))
+        for got, row in zip(doc, want):
+            self.assertEqual(got, row)
+
     def test_reconfigure_reads_the_table(self):
         cfg = read('cfg/ControllerTuning.cfg')
         self.assertIn('params_table.load("controller")', cfg)
