@@ -245,20 +245,23 @@ def tunables_text(component):
     for key, name, path, typ, row in paths:
         out.append('  f("%s", "%s", c.%s...);\n' % (key, name, path))
     out.append('}\n\n')
-    out.append(
-        '/// \\brief Tunables into a dynamic_reconfigure config R (fields named as the tunables).\n'
-        'template <class R, class T>\nvoid tunablesToReconfigure(const T& t, R* r) {\n'
+    copies = (
+        (
+            'Tunables into a dynamic_reconfigure config R (fields named as the tunables).',
+            'tunablesToReconfigure(const T& t, R* r)',
+            '  r->{name} = t.{path};\n',
+        ),
+        (
+            'A dynamic_reconfigure config R into tunables.',
+            'tunablesFromReconfigure(const R& r, T* t)',
+            '  t->{path} = r.{name};\n',
+        ),
     )
-    for key, name, path, typ, row in paths:
-        out.append('  r->%s = t.%s;\n' % (name, path))
-    out.append('}\n\n')
-    out.append(
-        '/// \\brief A dynamic_reconfigure config R into tunables.\n'
-        'template <class R, class T>\nvoid tunablesFromReconfigure(const R& r, T* t) {\n'
-    )
-    for key, name, path, typ, row in paths:
-        out.append('  t->%s = r.%s;\n' % (path, name))
-    out.append('}\n')
+    for doc, signature, line in copies:
+        out.append('/// \\brief %s\ntemplate <class R, class T>\nvoid %s {\n' % (doc, signature))
+        out += [line.format(name=p[1], path=p[2]) for p in paths]
+        out.append('}\n\n')
+    out[-1] = '}\n'
     return ''.join(out)
 
 
