@@ -11,6 +11,8 @@ macro(pmrac_library name)
   add_library(${name} $<TARGET_OBJECTS:${name}_objects>)
   add_library(${name}_static STATIC $<TARGET_OBJECTS:${name}_objects>)
   foreach(t ${name}_objects ${name} ${name}_static)
+    # the devel space's include folder: the structs generated from params/ (cmake/params.cmake)
+    #catkin_lint: ignore_once external_directory
     target_include_directories(${t} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
                                $<BUILD_INTERFACE:${PMRAC_GENERATED_INCLUDE}>)
     target_link_libraries(${t} PUBLIC Eigen3::Eigen)

@@ -25,5 +25,7 @@ add_custom_command(
           ${CMAKE_CURRENT_SOURCE_DIR}/src/preadaptive_mrac/params_table.py
   COMMENT "preadaptive_mrac: C++ parameter structs from params/*.yaml")
 add_custom_target(pmrac_params_headers DEPENDS ${CMAKE_CURRENT_BINARY_DIR}/params_codegen.stamp)
+# (generated, so outside the package's source folder)
+#catkin_lint: ignore_once external_directory
 install(DIRECTORY ${PMRAC_GENERATED_INCLUDE}/preadaptive_mrac/params
         DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION}/preadaptive_mrac)
