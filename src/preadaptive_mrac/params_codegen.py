@@ -99,7 +99,7 @@ def member_doc(row, full_key):
     unit = row.get('unit')
     return 'key `%s`: %s%s' % (
         full_key,
-        row['doc'].replace('\\|', '|'),
+        params_table.plain_doc(row),
         ' [%s]' % unit if unit and unit != '–' else '',
     )
 
@@ -275,6 +275,7 @@ def header(component):
             'tunable' in s for s in params_table.load_own(r['table'])['params']
         ):
             includes.append('"preadaptive_mrac/params/%s_params.hpp"' % r['table'])
+    tunables = tunables_text(component)
     return (
         '#pragma once\n'
         '/// \\file %s_params.hpp\n'
@@ -286,7 +287,7 @@ def header(component):
             component,
             '\n'.join('#include %s' % i for i in includes),
             enum_text(table) + struct_text(table),
-            tunables_text(component) + ('\n' if tunables_text(component) else ''),
+            tunables + ('\n' if tunables else ''),
         )
     )
 

@@ -149,14 +149,19 @@ def docs_row(prefix, row, modes=None):
     )
 
 
+def plain_doc(row):
+    """The doc without its Markdown escape of | (a C++ string or comment would read it as an
+    escape): for the .cfg's descriptions and the generated headers' comments."""
+    return row['doc'].replace('\\|', '|')
+
+
 def cfg_description(prefix, row):
-    """The dynamic_reconfigure description: the key, its doc, unit and range (the doc's
-    Markdown escape of | dropped: the generated C++ header would read it as an escape)."""
+    """The dynamic_reconfigure description: the key, its doc, unit and range."""
     unit = row.get('unit', '–')
     return '%s.%s: %s%s; %s' % (
         prefix,
         row['key'],
-        row['doc'].replace('\\|', '|'),
+        plain_doc(row),
         '' if unit == '–' else ' [%s]' % unit,
         range_text(row),
     )

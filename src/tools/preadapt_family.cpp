@@ -89,14 +89,18 @@ int main(int argc, char** argv) {
     cli::addText(app, "--segments", &segments_t, "segments after the first (default 10)");
     cli::addText(app, "--ref-every", &ref_t, "reference steps about every S seconds (default off)");
     cli::addText(app, "--delay", &delay_t,
-                 "servo transport delay [s] in every run (plant.actuator.delay)");
+                 "servo transport delay [s] (plant.actuator.delay): one value for every run, or "
+                 "LO:HI drawn per scenario");
     cli::addText(app, "--time-constant", &lag_t,
-                 "servo lag time constant [s] in every run (plant.actuator.time_constant)");
+                 "servo lag time constant [s] (plant.actuator.time_constant): one value, or LO:HI "
+                 "drawn per scenario");
     cli::addText(app, "--effectiveness", &lambda_t,
-                 "constant elevator effectiveness Lambda in (0, 2] over every scenario");
+                 "elevator effectiveness Lambda in (0, 2]: one value over every scenario, or "
+                 "LO:HI drawn per regime (the first segment 1)");
     cli::addText(app, "--turbulence", &gust_t,
                  "Dryden vertical gust sigma_w [m/s] (plant.turbulence, its length scale from "
-                 "the YAML; the gust seed is derived from the family seed and the scenario)");
+                 "the YAML; the gust seed is derived from the family seed and the scenario): one "
+                 "value, or LO:HI drawn per scenario");
     cli::addText(app, "--out-dir", &out_dir, "write the scenarios and every run's JSON here");
     app.add_flag("--json", json, "also print one JSON line per mode with every ratio");
     cli::addText(app, "--jobs", &jobs_t, "threads (default: all cores)");

@@ -10,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "preadaptive_mrac/core/margins.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
 
 using namespace preadaptive_mrac;
 
@@ -49,8 +50,7 @@ int main(int argc, char** argv) {
     cli::RunOptionText text;
     std::string mode, seed, bound, max_delay, delay_res, min_eff, max_eff, eff_res;
     cli::addRunOptions(app, &req, &text, true);
-    cli::addText(app, "--mode", &mode,
-                 "rac | pa | pa_learn | pa_learn_exact | pa_robust | oracle | l1");
+    cli::addText(app, "--mode", &mode, modeNames(" | "));
     cli::addText(app, "--seed", &seed, "seed of the network's initial weights");
     cli::addText(app, "--bound", &bound, "peak |e| bound of every window [rad] (default 0.2)");
     cli::addText(app, "--max-delay", &max_delay, "top of the delay interval [s] (default 2.0)");
