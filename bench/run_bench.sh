@@ -30,7 +30,6 @@ CALLGRIND="${CALLGRIND:-auto}"
 OUT="${OUT:-docs/performance.md}"
 BASELINE_BUILD="${BASELINE_BUILD:-}"
 BASE_RUNS="${BASE_RUNS:-$PY_RUNS}"
-MODES=(rac pa pa_learn pa_learn_exact pa_robust oracle)
 PY=/usr/bin/python3
 RES="$BUILD_DIR/bench_results"
 
@@ -48,7 +47,11 @@ BIN="$BUILD_DIR/devel/lib/preadaptive_mrac"
 SIM="$BIN/preadapt_sim"
 BENCH="$BIN/bench_controller"
 [[ -x "$SIM" && -x "$BENCH" ]] || { echo "run_bench: $SIM or $BENCH not built" >&2; exit 1; }
+# every mode of params/modes.yaml, as the build registers them
+mapfile -t MODES < <("$SIM" --list-modes | cut -f1)
 BASE_SIM=""
+# whether the baseline has mode $1 (an older build refuses a newer mode by name)
+base_has() { [[ -n "$BASE_SIM" ]] && "$BASE_SIM" --scenario 3 --mode "$1" --json >/dev/null 2>&1; }
 if [[ -n "$BASELINE_BUILD" ]]; then
   BASE_SIM="$BASELINE_BUILD/devel/lib/preadaptive_mrac/preadapt_sim"
   [[ -x "$BASE_SIM" ]] || { echo "run_bench: $BASE_SIM not built" >&2; exit 1; }
@@ -99,6 +102,7 @@ if [[ -n "$BASE_SIM" ]]; then
   IDENTICAL=""
   strip_wall() { sed -E 's/"wall_time_s":[0-9.eE+-]+//'; }
   for m in "${MODES[@]}"; do
+    if ! base_has "$m"; then echo "  $m: not in the baseline"; continue; fi
     "$SIM" --scenario 3 --mode "$m" --json --csv "$RES/same.new.csv" | strip_wall >"$RES/same.new.json"
     "$BASE_SIM" --scenario 3 --mode "$m" --json --csv "$RES/same.base.csv" | strip_wall >"$RES/same.base.json"
     if cmp -s "$RES/same.new.json" "$RES/same.base.json" && cmp -s "$RES/same.new.csv" "$RES/same.base.csv"; then
@@ -125,7 +129,7 @@ if [[ "$CALLGRIND" == 1 || ( "$CALLGRIND" == auto && -x "$(command -v valgrind |
     callgrind_annotate "$RES/callgrind.$m.out" >"$RES/callgrind.$m.excl.txt" 2>/dev/null
     "$PY" bench/perf_report.py callgrind --out "$RES/callgrind.json" --mode "$m" \
       --ir-file "$RES/callgrind.$m.txt" --excl-file "$RES/callgrind.$m.excl.txt"
-    if [[ -n "$BASE_SIM" ]]; then
+    if base_has "$m"; then
       valgrind --tool=callgrind --callgrind-out-file="$RES/callgrind_base.$m.out" \
         "$BASE_SIM" --scenario 3 --mode "$m" --json >/dev/null 2>"$RES/callgrind_base.$m.log"
       callgrind_annotate --inclusive=yes "$RES/callgrind_base.$m.out" >"$RES/callgrind_base.$m.txt" 2>/dev/null

@@ -60,9 +60,10 @@ catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers scripts/l
 install(PROGRAMS scripts/lib/launch_checked DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(FILES scripts/lib/ros_env DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # The launch-prefix compare.launch's pairs name their parent namespace's manager, recorder
-# progress and tf with: launch files name it $(find preadaptive_mrac)/scripts/lib/parent_names,
-# the source tree's in the devel space, so installed at that place under share/, not in a bin
-# folder.
+# progress and tf with (parent_names), and the command giving the plant its truth subscriber
+# count from params/modes.yaml (mode_info): launch files name them
+# $(find preadaptive_mrac)/scripts/lib/..., the source tree's in the devel space, so installed
+# at that place under share/ (beside share/params), not in a bin folder.
 #catkin_lint: ignore_once wrong_bin_install_destination
-install(PROGRAMS scripts/lib/parent_names
+install(PROGRAMS scripts/lib/parent_names scripts/lib/mode_info
   DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/scripts/lib)

@@ -1,11 +1,14 @@
 #include "preadaptive_mrac/core/mode_registry.hpp"
 
+#include <stdexcept>
+
 #include "preadaptive_mrac/core/l1_law.hpp"
 #include "preadaptive_mrac/core/mrac_law.hpp"
 #include "preadaptive_mrac/core/oracle_preadaptation.hpp"
 #include "preadaptive_mrac/core/paper_preadaptation.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/robust_preadaptation.hpp"
+#include "preadaptive_mrac/params/modes_params.hpp"
 
 namespace preadaptive_mrac {
 
@@ -18,31 +21,52 @@ std::unique_ptr<PreadaptationStrategy> makePaper(const ModeContext& m) {
 
 using P = PaperPreadaptation::Variant;
 
+template <class Entry>
+auto findPart(const std::vector<Entry>& parts, const char* name) -> decltype(parts[0].make) {
+  for (const Entry& e : parts)
+    if (std::string(name) == e.name) return e.make;
+  return nullptr;
+}
+
 }  // namespace
 
-const std::vector<ModeEntry>& modeRegistry() {
-  // The one list of modes: name, doc, law, strategy. A new mode is a new row.
-  static const std::vector<ModeEntry> kModes = {
-      {"rac", "regular adaptive control: MRAC, theta_hat never reset", makeMracLaw,
-       makePaper<P::kRac>},
-      {"pa", "preadaptation: theta_hat := the network's theta_hat_I at each onset, network fixed",
-       makeMracLaw, makePaper<P::kPa>},
-      {"pa_learn", "preadaptation, the network learning with the approximate gradient (the paper)",
-       makeMracLaw, makePaper<P::kPaLearn>},
-      {"pa_learn_exact",
-       "preadaptation, learning with the exact gradient (needs the true theta: simulation only)",
-       makeMracLaw, makePaper<P::kPaLearnExact>},
-      {"pa_robust",
-       "robust preadaptation: residual trigger, regime memory, verified candidates "
-       "(docs/robust.md)",
-       makeMracLaw, makeRobustPreadaptation},
-      {"oracle", "yardstick: theta_hat := the true theta at each switch (simulation only)",
-       makeMracLaw, makeOraclePreadaptation},
-      {"l1",
-       "L1 adaptive control: state predictor, fast projection-based adaptation, low-pass filtered "
-       "adaptive term (docs/l1.md); attention reported as in rac, theta_hat never reset",
-       makeL1Law, makePaper<P::kRac>},
+// The registered parts, by the names params/modes.yaml gives them. A new law or strategy is one
+// row here; a new mode that combines registered parts is one row of the table only.
+const std::vector<LawEntry>& lawRegistry() {
+  static const std::vector<LawEntry> kLaws = {{"mrac", makeMracLaw}, {"l1", makeL1Law}};
+  return kLaws;
+}
+
+const std::vector<StrategyEntry>& strategyRegistry() {
+  static const std::vector<StrategyEntry> kStrategies = {
+      {"paper_rac", makePaper<P::kRac>},
+      {"paper_pa", makePaper<P::kPa>},
+      {"paper_pa_learn", makePaper<P::kPaLearn>},
+      {"paper_pa_learn_exact", makePaper<P::kPaLearnExact>},
+      {"robust", makeRobustPreadaptation},
+      {"oracle", makeOraclePreadaptation},
   };
+  return kStrategies;
+}
+
+const std::vector<ModeEntry>& modeRegistry() {
+  // The one list of modes is params/modes.yaml (generated into params::kModeRows); each row's
+  // law and strategy are looked up by name. A name no part registers is a programming error
+  // of the table, caught the first time any mode is asked for (and by test_mode_registry).
+  static const std::vector<ModeEntry> kModes = [] {
+    std::vector<ModeEntry> v;
+    for (const params::ModeRow& row : params::kModeRows) {
+      const auto law = findPart(lawRegistry(), row.law);
+      const auto strategy = findPart(strategyRegistry(), row.strategy);
+      if (law == nullptr || strategy == nullptr)
+        throw std::logic_error(std::string("params/modes.yaml: mode '") + row.name + "' names " +
+                               (law == nullptr ? "law '" : "strategy '") +
+                               (law == nullptr ? row.law : row.strategy) +
+                               "', which src/core/mode_registry.cpp does not register");
+      v.push_back({row.name, row.doc, law, strategy, row.truth});
+    }
+    return v;
+  }();
   return kModes;
 }
 

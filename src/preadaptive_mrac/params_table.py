@@ -34,9 +34,12 @@ def table_path(component):
 
 
 def components():
-    """Every table's component name (params/*.yaml), sorted."""
+    """Every parameter table's component name (params/*.yaml but the modes' table, which has
+    rows of modes, not parameters: modes.py), sorted."""
     folder = os.path.join(package_root(), 'params')
-    return sorted(f[: -len('.yaml')] for f in os.listdir(folder) if f.endswith('.yaml'))
+    return sorted(
+        f[: -len('.yaml')] for f in os.listdir(folder) if f.endswith('.yaml') and f != 'modes.yaml'
+    )
 
 
 def load_own(component):

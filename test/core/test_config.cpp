@@ -4,8 +4,12 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
+#include "preadaptive_mrac/core/controller.hpp"
+#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/params/modes_params.hpp"
 #include "test_helpers.hpp"
 
 using namespace preadaptive_mrac;
@@ -233,4 +237,22 @@ TEST(Config, NonScalarMapKeysAreAFileErrorNotACrash) {
   }
   ParamValue t = ParamValue::makeMap();
   EXPECT_THROW(applyOverride(&t, "controller.mode={[1]: 2}"), FileError);
+}
+
+// params/modes.yaml is the one list of modes: every row's law and strategy are registered, the
+// registry keeps the table's order, and a row's `truth` says what its strategy does (the launch
+// files count plant/truth's subscribers from it: a wrong flag would stall a lockstep run).
+TEST(ModeRegistry, EveryTableRowIsARegisteredLawAndStrategy) {
+  const std::vector<ModeEntry>& modes = modeRegistry();
+  ASSERT_EQ(modes.size(), std::size(params::kModeRows));
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    const ModeEntry& m = modes[i];
+    EXPECT_STREQ(m.name, params::kModeRows[i].name);
+    RunConfig cfg = test::packageConfig("1");
+    cfg.controller.mode = m.name;
+    Controller ctl(cfg.plant, cfg.controller);
+    EXPECT_EQ(ctl.mode(), m.name);
+    EXPECT_EQ(m.truth, ctl.needsTruth()) << m.name << ": " << ctl.truthUse();
+  }
+  EXPECT_EQ(std::string(modes[0].name), "rac");  // the reproduction's baseline leads
 }

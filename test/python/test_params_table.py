@@ -1,7 +1,7 @@
 """params/*.yaml (one declaration per parameter, issue 21) against every place derived from
 it: the shipped YAML's keys and values, the rows of docs/parameters.md, the dynamic_reconfigure
-.cfg, the mutation study's optional keys; and the one list of mode names (the registry in
-src/core/mode_registry.cpp) against every place that names the modes."""
+.cfg, the mutation study's optional keys; and the one list of modes (params/modes.yaml) against
+every place that could keep its own list of them."""
 
 import os
 import re
@@ -10,6 +10,7 @@ import unittest
 import yaml
 
 import pkg_path
+from preadaptive_mrac import modes as modes_table
 from preadaptive_mrac import params_table
 from preadaptive_mrac.studies import yaml_mutations
 
@@ -22,11 +23,9 @@ def read(rel):
 
 
 def registered_modes():
-    """The names of kModes in src/core/mode_registry.cpp, in order (what preadapt_sim
-    --list-modes prints; read from the source so the test needs no build)."""
-    src = read('src/core/mode_registry.cpp')
-    body = src[src.index('kModes = {') :]
-    return re.findall(r'^\s*\{"([a-z0-9_]+)",', body, re.M)
+    """The modes of params/modes.yaml, in order (the C++ registry's rows are generated from
+    it: test_config's ModeRegistry test holds them to the registered parts)."""
+    return list(modes_table.MODES)
 
 
 def leaves(node, path):
@@ -123,37 +122,80 @@ class TestControllerTable(unittest.TestCase):
 
 
 class TestModeNames(unittest.TestCase):
+    """No place keeps its own list of every mode: a line naming every mode, or every mode but
+    one, as words (a list, a `|` alternation, a dict of them) fails in the sources, launch
+    files, shipped YAML, messages, scripts and the Python package; those take the list from
+    params/modes.yaml (or preadapt_sim --list-modes). A chosen few (a demo's defaults, a test's
+    cases) are choices, not copies of the list. Docs (docs/, README.md) may list them."""
+
+    FOLDERS = ('src', 'include', 'launch', 'config', 'msg', 'cfg', 'scripts', 'test', 'bench')
+    SUFFIXES = ('.cpp', '.hpp', '.py', '.launch', '.yaml', '.msg', '.cfg', '.sh', '')
+
     def setUp(self):
         self.modes = registered_modes()
+        self.word = re.compile(r'(?<![A-Za-z0-9_])(%s)(?![A-Za-z0-9_])' % '|'.join(self.modes))
 
-    def test_registry_read(self):
-        self.assertEqual(self.modes[:4], ['rac', 'pa', 'pa_learn', 'pa_learn_exact'])
+    def test_table_order(self):
+        # the reproduction's subject first, its baseline leading (reproduction/common.py)
+        self.assertEqual(list(modes_table.PAPER_MODES), self.modes[:4])
+        self.assertEqual(self.modes[0], 'rac')
 
-    def test_comments_and_launch_docs_list_every_mode(self):
-        bar = ' | '.join(self.modes)
-        self.assertIn(
-            'mode: pa_learn             # ' + bar + '\n', read('config/controller/default.yaml')
-        )
-        self.assertIn(
-            'string mode                  # ' + bar + '\n', read('msg/AdaptationStatus.msg')
-        )
-        for launch in ('launch/closed_loop.launch', 'launch/scenario.launch'):
-            self.assertIn('doc="' + bar + ' (', read(launch), launch)
-        self.assertIn(
-            'doc="mode of /pa: ' + ' | '.join(m for m in self.modes if m != 'rac') + ' (',
-            read('launch/compare.launch'),
-        )
+    def lists_in(self, text):
+        return [
+            (n + 1, line)
+            for n, line in enumerate(text.splitlines())
+            if len(set(self.word.findall(line))) >= len(self.modes) - 1
+        ]
 
-    def test_python_lists_of_every_mode(self):
+    def test_no_hand_kept_mode_list(self):
+        found = []
+        for folder in self.FOLDERS:
+            for dirpath, _, files in os.walk(os.path.join(ROOT, folder)):
+                for f in files:
+                    path = os.path.join(dirpath, f)
+                    if os.path.splitext(f)[1] not in self.SUFFIXES or os.path.islink(path):
+                        continue
+                    try:
+                        text = read(path)
+                    except UnicodeDecodeError:
+                        continue
+                    rel = os.path.relpath(path, ROOT)
+                    found += ['%s:%d: %s' % (rel, n, ln.strip()) for n, ln in self.lists_in(text)]
+        self.assertEqual(found, [], 'mode lists kept by hand (take them from params/modes.yaml)')
+
+    def test_the_check_finds_a_list(self):
+        every = ', '.join('"%s"' % m for m in self.modes)
+        self.assertEqual(len(self.lists_in('x = (%s)\nmode: pa  # rac' % every)), 1)
+        self.assertEqual(len(self.lists_in(' | '.join(self.modes[1:]))), 1)
+        self.assertEqual(self.lists_in(' | '.join(m + '_2' for m in self.modes)), [])
+
+    def test_python_package_takes_the_table(self):
         from preadaptive_mrac.analysis import runs
         from preadaptive_mrac.bench import report
+        from preadaptive_mrac.reproduction import common
         from preadaptive_mrac.studies import robust
 
         for name, lst in (('runs', runs.MODES), ('report', report.MODES), ('robust', robust.MODES)):
-            self.assertEqual(sorted(lst), sorted(self.modes), name)
-        from preadaptive_mrac.reproduction import common
+            self.assertEqual(list(lst), self.modes, name)
+        self.assertEqual(list(common.MODES), self.modes[:4])
 
-        self.assertEqual(list(common.MODES), self.modes[:4])  # the paper's four
+    def test_guess_mode(self):
+        for m in self.modes:
+            self.assertEqual(modes_table.guess_mode('scenario1_%s.csv' % m), m)
+            self.assertEqual(modes_table.guess_mode('%s-run.bag' % m.replace('_', '-')), m)
+        self.assertIsNone(modes_table.guess_mode('%s_vs_%s.csv' % (self.modes[0], self.modes[-1])))
+
+    def test_mode_info_counts_truth_subscribers(self):
+        import subprocess
+
+        tool = os.path.join(ROOT, 'scripts', 'lib', 'mode_info')
+        for row in modes_table.ROWS:
+            out = subprocess.run(
+                [tool, 'truth-subscribers', row['name'], '2'], capture_output=True, text=True
+            )
+            self.assertEqual(out.stdout.strip(), '3' if row['truth'] else '2', row['name'])
+        out = subprocess.run([tool, 'truth-subscribers', 'no_such_mode', '1'], capture_output=True)
+        self.assertEqual(out.stdout.strip(), b'1')
 
 
 if __name__ == '__main__':

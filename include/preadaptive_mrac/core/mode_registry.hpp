@@ -1,13 +1,15 @@
 #pragma once
 /// \file mode_registry.hpp
 /// \brief The registered modes: each a name, one line of doc, an adaptive law and a
-/// preadaptation strategy. The one list of mode names: the CLI (--mode, --modes, --list-modes),
-/// the sweeps, families and nodes, the validation message of `controller.mode`, and, through
-/// `preadapt_sim --list-modes`, the Python package, the docs and the comments that name them
-/// (test/python/test_mode_names.py compares).
+/// preadaptation strategy. The one list of modes is params/modes.yaml: its rows, generated into
+/// preadaptive_mrac/params/modes_params.hpp, make this registry (the CLI's --mode, --modes and
+/// --list-modes, the sweeps, families and nodes, the validation message of `controller.mode`);
+/// the Python package (preadaptive_mrac.modes), the launch files (scripts/lib/mode_info) and the
+/// docs read the same table.
 ///
-/// A new mode is one row of kModes in src/core/mode_registry.cpp: its name, doc, the factory of
-/// its law (adaptive_law.hpp) and the factory of its strategy (preadaptation.hpp).
+/// A new mode is one row of params/modes.yaml naming a registered law and strategy; a new law
+/// (adaptive_law.hpp) or strategy (preadaptation.hpp) is one row of lawRegistry() or
+/// strategyRegistry() in src/core/mode_registry.cpp.
 
 #include <memory>
 #include <string>
@@ -27,7 +29,25 @@ struct ModeEntry {
   const char* doc;   ///< one line: what the mode does
   std::unique_ptr<AdaptiveLaw> (*make_law)(const ModeContext&);
   std::unique_ptr<PreadaptationStrategy> (*make_strategy)(const ModeContext&);
+  bool truth;  ///< reads the simulation's true theta (params/modes.yaml `truth`)
 };
+
+/// \brief A registered adaptive law: the name params/modes.yaml's `law` gives it.
+struct LawEntry {
+  const char* name;
+  std::unique_ptr<AdaptiveLaw> (*make)(const ModeContext&);
+};
+
+/// \brief A registered preadaptation strategy: the name params/modes.yaml's `strategy` gives it.
+struct StrategyEntry {
+  const char* name;
+  std::unique_ptr<PreadaptationStrategy> (*make)(const ModeContext&);
+};
+
+/// \brief Every registered adaptive law.
+const std::vector<LawEntry>& lawRegistry();
+/// \brief Every registered preadaptation strategy.
+const std::vector<StrategyEntry>& strategyRegistry();
 
 /// \brief Every registered mode, in the order of the docs and the default --modes.
 const std::vector<ModeEntry>& modeRegistry();

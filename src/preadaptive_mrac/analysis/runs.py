@@ -2,7 +2,9 @@
 and the decoding shared by the bag and CSV readers."""
 
 import os
-import re
+
+from .. import modes as _modes
+from ..modes import MODE_TEXT, MODES  # noqa: F401 (the package's names for them)
 
 
 # AttentionEvent.type 0..4 by name; 'decision' is pa_robust's re-decision inside a phase.
@@ -10,16 +12,6 @@ EVENT_TYPES = ('onset', 'recovered', 'ignored_onset', 'ignored_recovery', 'decis
 # What a pa_robust verification chose (AttentionEvent.decision / decision_code 1..4).
 DECISIONS = ('keep', 'fit', 'memory', 'network')
 DECISION_FIELDS = ('decision', 'chosen', 'candidates', 'score', 'score_keep')
-MODES = ('pa_learn_exact', 'pa_learn', 'pa_robust', 'oracle', 'pa', 'rac', 'l1')
-MODE_TEXT = {
-    'rac': 'regular adaptive control',
-    'pa': 'preadaptation, no learning',
-    'pa_learn': 'preadaptation + learning (approx. gradient)',
-    'pa_learn_exact': 'preadaptation + learning (exact gradient)',
-    'pa_robust': 'robust preadaptation (residual trigger, regime memory, verification)',
-    'oracle': 'oracle yardstick: theta_hat := true theta at each switch',
-    'l1': 'L1 adaptive control (predictor, fast adaptation, filtered adaptive term)',
-}
 
 # Relative topic names and message type base names the nodes publish (msg/*.msg).
 TOPICS = {
@@ -113,27 +105,7 @@ class Run:
         return "'%s' (mode %s) from %s" % (self.label, self.mode, where)
 
 
-def _guess_mode(name):
-    """A mode named in a file name (scenario1_pa_learn.csv -> pa_learn); None if none or
-    more than one is named."""
-    s = os.path.splitext(os.path.basename(name))[0].lower().replace('-', '_')
-    s = s.replace('pa_learn_exact', ' PALE ').replace('pa_learn', ' PAL ')
-    s = s.replace('pa_robust', ' PAR ')
-    toks = set(re.split(r'[^A-Za-z0-9]+', s))
-    found = [
-        m
-        for tok, m in (
-            ('PALE', 'pa_learn_exact'),
-            ('PAL', 'pa_learn'),
-            ('PAR', 'pa_robust'),
-            ('oracle', 'oracle'),
-            ('pa', 'pa'),
-            ('rac', 'rac'),
-            ('l1', 'l1'),
-        )
-        if tok in toks
-    ]
-    return found[0] if len(found) == 1 else None
+_guess_mode = _modes.guess_mode
 
 
 def _no_decision():

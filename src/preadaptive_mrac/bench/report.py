@@ -8,9 +8,10 @@ import json
 import os
 import re
 
+from preadaptive_mrac import modes
 from preadaptive_mrac.bench import timing
 
-MODES = ['rac', 'pa', 'pa_learn', 'pa_learn_exact', 'pa_robust', 'oracle', 'l1']
+MODES = list(modes.MODES)
 # Controller::step aims per mode [ns]; modes without one are reported without a verdict.
 AIM_STEP = {'rac': 1000.0, 'pa': 1000.0, 'pa_learn': 3000.0, 'pa_learn_exact': 3000.0}
 AIM_SCENARIO3_MS = 20.0  # full scenario 3 per mode (issue 9)

@@ -6,6 +6,7 @@ import sys
 import numpy as np
 
 
+from ..modes import PA_MODES, PAPER_MODES  # noqa: E402, F401 (PA_MODES: for the chapters)
 from ..paths import package_root  # noqa: E402
 
 ROOT = package_root()
@@ -22,8 +23,7 @@ SECTIONS = (
     'network',
 )
 
-MODES = ('rac', 'pa', 'pa_learn', 'pa_learn_exact')
-PA_MODES = ('pa', 'pa_learn', 'pa_learn_exact')
+MODES = PAPER_MODES  # the paper's four, the reproduction's subject
 MODE_COLOR = {
     'rac': 'tab:blue',
     'pa': 'tab:orange',

@@ -14,19 +14,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .. import modes  # noqa: E402
 from ..paths import package_root  # noqa: E402
 
 ROOT = package_root()
-MODES = ["rac", "pa", "pa_learn", "pa_learn_exact", "pa_robust", "oracle", "l1"]
-COLORS = {
-    "rac": "0.45",
-    "pa": "tab:orange",
-    "pa_learn": "tab:red",
-    "pa_learn_exact": "tab:purple",
-    "pa_robust": "tab:green",
-    "oracle": "tab:blue",
-    "l1": "tab:brown",
-}
+MODES = list(modes.MODES)
+COLORS = modes.MODE_COLOUR
 DECISION_STYLE = {
     "keep": ("o", "0.5"),
     "fit": ("s", "tab:green"),
