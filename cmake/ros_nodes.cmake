@@ -10,6 +10,8 @@ add_library(preadaptive_mrac_ros_params
   src/ros/latency_stats.cpp
   src/ros/tick_source.cpp)
 target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)
+# node_params reads the struct generated from params/nodes.yaml (cmake/params.cmake)
+add_dependencies(preadaptive_mrac_ros_params pmrac_params_headers)
 
 # ROS headers for everything from here on (the core and io libraries above have none). The
 # generated message and dynamic_reconfigure headers (devel include/) are on the path already:

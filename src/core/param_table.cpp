@@ -1,5 +1,8 @@
 #include "preadaptive_mrac/core/param_table.hpp"
 
+#include <cstdint>
+#include <limits>
+
 namespace preadaptive_mrac {
 
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, double* v) {
@@ -7,11 +10,21 @@ void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, doub
 }
 
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, int* v) {
-  *v = static_cast<int>(s.presence == ParamPresence::kOptional ? r.getInt(key, *v) : r.getInt(key));
+  const std::int64_t w = s.presence == ParamPresence::kOptional ? r.getInt(key, *v) : r.getInt(key);
+  // Checked before the cast: a value beyond int would wrap and could land inside the range.
+  if (w < std::numeric_limits<int>::min() || w > std::numeric_limits<int>::max()) {
+    r.fail(key, "must fit a 32-bit int, got " + std::to_string(w));
+    return;
+  }
+  *v = static_cast<int>(w);
 }
 
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, bool* v) {
   *v = s.presence == ParamPresence::kOptional ? r.getBool(key, *v) : r.getBool(key);
+}
+
+void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, std::string* v) {
+  *v = s.presence == ParamPresence::kOptional ? r.getString(key, *v) : r.getString(key);
 }
 
 void checkScalar(ParamReader& r, const std::string& key, const ParamCheck& c, double v) {

@@ -1,10 +1,14 @@
 """C++ from the parameter tables (issue 21: one declaration per parameter): for each table
 params/<component>.yaml, a header preadaptive_mrac/params/<component>_params.hpp with
 
-- the struct of its values (the table's `struct`), each member with its default and doc;
-- `forEachScalar(self, f)`: f(ParamSpec, member) for every double, int and bool the generic
-  reader reads (core/param_table.hpp: readScalars, checkRanges), in the table's order;
-- `forEachSection(f)`: f(key, absent_note) for every optional section;
+- the struct of its values (the table's `struct`; the nodes' table: one per node of its
+  `structs`, of the rows naming that node), each member with its default and doc;
+- `forEachScalar(self, f)`: f(ParamSpec, member) for every number, bool, string and choice the
+  generic reader reads (core/param_table.hpp: readScalars, checkRanges), in the table's order;
+- `forEachSection(f)`: f(key, absent_note) for every optional section; for a node's struct
+  `forEachKey(f)`, every key it has (the unknown-key check);
+- per `choices` type: the enum (unless `enum_header` declares it), parseChoice, choiceName,
+  choiceNames;
 
 and for a table with tunable rows (the controller's, with its parts' tables), the tunables:
 the struct ControllerTunableParams, `forEachTunable(f, c...)` (f(key, reconfigure name,
@@ -20,7 +24,13 @@ import textwrap
 
 from . import params_table
 
-CPP_TYPES = {'double': 'double', 'int': 'int', 'bool': 'bool', 'string': 'std::string'}
+CPP_TYPES = {
+    'double': 'double',
+    'int': 'int',
+    'bool': 'bool',
+    'string': 'std::string',
+    'list of strings': 'std::vector<std::string>',
+}
 PRESENCE = {
     'required': 'ParamPresence::kRequired',
     'optional': 'ParamPresence::kOptional',
@@ -52,22 +62,32 @@ def enumerator(choice):
 
 
 def enum_text(table):
-    """An enum for each row with `choices`, and its parser (the read is the component's)."""
+    """An enum for each `choices` type (once, however many rows use it; `enum_header`: declared
+    there, only the functions here), its parser and names (the read is the generic one, or the
+    component's for a row read `custom`)."""
     out = []
+    done = set()
     for row in table['params']:
-        if 'choices' not in row:
+        if 'choices' not in row or row['cpp_type'] in done:
             continue
         t = row['cpp_type']
+        done.add(t)
         names = ', '.join(row['choices'])
-        out.append(comment('The values of `%s.%s`: %s.' % (table['prefix'], row['key'], names), ''))
-        out.append(
-            'enum class %s { %s };\n' % (t, ', '.join(enumerator(c) for c in row['choices']))
-        )
+        if 'enum_header' not in row:
+            out.append(comment('The values of `%s`: %s.' % (full_key(table, row), names), ''))
+            out.append(
+                'enum class %s { %s };\n' % (t, ', '.join(enumerator(c) for c in row['choices']))
+            )
         out.append('/// \\brief The value named `name`; false when none is.\n')
         out.append('inline bool parseChoice(const std::string& name, %s* v) {\n' % t)
         for c in row['choices']:
             out.append('  if (name == "%s") return *v = %s::%s, true;\n' % (c, t, enumerator(c)))
         out.append('  return false;\n}\n')
+        out.append('/// \\brief The name of `v`, as the table writes it.\n')
+        out.append('inline const char* choiceName(%s v) {\n' % t)
+        for c in row['choices'][:-1]:
+            out.append('  if (v == %s::%s) return "%s";\n' % (t, enumerator(c), c))
+        out.append('  return "%s";\n}\n' % row['choices'][-1])
         out.append('/// \\brief The names, for messages.\n')
         out.append('inline const char* choiceNames(%s) { return "%s"; }\n\n' % (t, names))
     return ''.join(out)
@@ -79,7 +99,7 @@ def cpp_default(row):
     v = row.get('default')
     if 'choices' in row:
         return ' = %s::%s' % (t, enumerator(v))
-    if t.startswith('Eigen::') or v is None:
+    if t.startswith(('Eigen::', 'std::vector')) or v is None:
         return ''
     if t == 'bool':
         return ' = %s' % ('true' if v else 'false')
@@ -95,10 +115,17 @@ def comment(text, indent):
     return ''.join('%s/// %s\n' % (indent, line) for line in lines)
 
 
-def member_doc(row, full_key):
+def full_key(table, row):
+    """The key as the docs name it: `controller.lqr.R`, or `~dt` for a node's private key."""
+    if table['prefix'] == '~':
+        return '~' + row['key']
+    return '%s.%s' % (table['prefix'], row['key'])
+
+
+def member_doc(row, key):
     unit = row.get('unit')
     return 'key `%s`: %s%s' % (
-        full_key,
+        key,
         params_table.plain_doc(row),
         ' [%s]' % unit if unit and unit != '–' else '',
     )
@@ -119,37 +146,54 @@ def check_init(row):
     )
 
 
-def scalar_rows(table):
+def scalar_rows(rows):
+    """The rows the generic reader reads: numbers, bools, strings and choices, unless `custom`."""
     return [
         r
-        for r in table['params']
-        if r['type'] in ('double', 'int', 'bool') and r.get('read') != 'custom'
+        for r in rows
+        if r['type'] in ('double', 'int', 'bool', 'string') and r.get('read') != 'custom'
     ]
 
 
-def struct_text(table):
+def structs(table):
+    """(struct name, its rows) of each struct generated from a table: the table's `struct`, or
+    for the nodes' table (`structs`: node -> struct) one per node, of the rows naming it."""
+    if 'struct' in table:
+        return [(table['struct'], table['params'])]
+    return [
+        (name, [r for r in table['params'] if node in r.get('nodes', ())])
+        for node, name in table.get('structs', {}).items()
+    ]
+
+
+def struct_text(table, name, rows):
     out = []
-    s = table['struct']
     out.append(
         comment(
-            'The values of params/%s.yaml (key `%s`), with their defaults. Generated: edit'
-            ' the table.' % (table['component'], table['prefix']),
+            'The values of params/%s.yaml (key `%s`)%s, with their defaults. Generated: edit'
+            ' the table.'
+            % (
+                table['component'],
+                table['prefix'],
+                '' if 'struct' in table else ' that %s reads' % name,
+            ),
             '',
         )
     )
-    out.append('struct %s {\n' % s)
-    for row in table['params']:
+    out.append('struct %s {\n' % name)
+    for row in rows:
         if row['type'] == 'section':
             continue
-        out.append(comment(member_doc(row, '%s.%s' % (table['prefix'], row['key'])), '  '))
+        out.append(comment(member_doc(row, full_key(table, row)), '  '))
         out.append('  %s %s%s;\n' % (cpp_type(row), field(row), cpp_default(row)))
     out.append(
-        '\n  /// \\brief Calls f(spec, member) for each double, int and bool the generic reader\n'
-        '  /// reads (param_table.hpp), in the table\'s order; Self: this struct or one derived.\n'
+        '\n  /// \\brief Calls f(spec, member) for each number, bool, string and choice the\n'
+        '  /// generic reader reads (param_table.hpp), in the table\'s order; Self: this struct\n'
+        '  /// or one derived.\n'
         '  template <class Self, class F>\n'
         '  static void forEachScalar(Self& self, F&& f) {\n'
     )
-    for row in scalar_rows(table):
+    for row in scalar_rows(rows):
         key = row['key']
         section = key.rsplit('.', 1)[0] if row['presence'] == 'in_section' else ''
         out.append(
@@ -162,14 +206,22 @@ def struct_text(table):
         '  template <class F>\n'
         '  static void forEachSection(F&& f) {\n'
     )
-    for row in table['params']:
+    for row in rows:
         if row['type'] == 'section' and 'table' not in row:
             out.append(
                 '    f("%s", "%s");\n' % (row['key'], row['absent_note'].replace('"', '\\"'))
             )
-    if not any(r['type'] == 'section' and 'table' not in r for r in table['params']):
+    if not any(r['type'] == 'section' and 'table' not in r for r in rows):
         out.append('    (void)f;  // no section of its own\n')
     out.append('  }\n')
+    if 'struct' not in table:
+        out.append(
+            '  /// \\brief Calls f(key) for each key of the struct (those read by hand too).\n'
+            '  template <class F>\n'
+            '  static void forEachKey(F&& f) {\n'
+        )
+        out += ['    f("%s");\n' % r['key'] for r in rows]
+        out.append('  }\n')
     if 'absent_note' in table:
         out.append(
             '  /// \\brief What the start-up line says when the whole section is left out.\n'
@@ -267,9 +319,16 @@ def tunables_text(component):
 
 def header(component):
     table = params_table.load_own(component)
-    includes = ['<cstdint>', '<string>', '"preadaptive_mrac/core/param_spec.hpp"']
-    if any(cpp_type(r).startswith('Eigen::') for r in table['params']):
+    types = [cpp_type(r) for _, rows in structs(table) for r in rows if r['type'] != 'section']
+    includes = ['<cstdint>', '<string>']
+    if any(t.startswith('std::vector') for t in types):
+        includes.append('<vector>')
+    includes.append('"preadaptive_mrac/core/param_spec.hpp"')
+    if any(t.startswith('Eigen::') for t in types):
         includes.append('"preadaptive_mrac/core/types.hpp"')
+    for r in table['params']:
+        if 'enum_header' in r and '"%s"' % r['enum_header'] not in includes:
+            includes.append('"%s"' % r['enum_header'])
     for r in table['params']:
         if 'table' in r and any(
             'tunable' in s for s in params_table.load_own(r['table'])['params']
@@ -286,7 +345,7 @@ def header(component):
             component,
             component,
             '\n'.join('#include %s' % i for i in includes),
-            enum_text(table) + struct_text(table),
+            enum_text(table) + '\n'.join(struct_text(table, n, rows) for n, rows in structs(table)),
             tunables + ('\n' if tunables else ''),
         )
     )
@@ -308,9 +367,9 @@ def main(argv):
         sys.stderr.write('usage: params_codegen OUT_DIR [COMPONENT ...]  (default: every table)\n')
         return 2
     out_dir = argv[1]
-    # Tables without a `struct` (plant, scenario, nodes) have hand-written readers so far.
+    # Tables without a struct (plant, scenario) have hand-written readers so far.
     for component in argv[2:] or params_table.components():
-        if 'struct' not in params_table.load_own(component):
+        if not structs(params_table.load_own(component)):
             continue
         write_if_changed(
             os.path.join(out_dir, 'preadaptive_mrac', 'params', component + '_params.hpp'),

@@ -13,11 +13,12 @@ dynamic_reconfigure name, with group) and doc (one line). default_doc overrides 
 default where a value cannot be shown (a matrix, a section).
 
 For the generated C++ (params_codegen.py): the table's `struct` names the generated struct of
-its values; a row's `field` its member (default: the key's last part), `cpp_type` a member type
-other than the type's own (with `choices`: the enum of them, generated with its parser),
-`read: custom` a value the component's read() reads itself (a string checked against the
-registry, a matrix or vector sized by the plant, a choice), and a section row's
-`absent_note` what the start-up line says when the section is left out. A section row with
+its values (the nodes' table: `structs`, node -> struct of the rows naming it); a row's `field`
+its member (default: the key's last part), `cpp_type` a member type other than the type's own
+(with `choices`: the enum of them, generated with its parser; `enum_header`: the header that
+declares it instead), `read: custom` a value the component's read() reads itself (a string
+checked against the registry, a matrix or vector sized by the plant, a choice), and a section
+row's `absent_note` what the start-up line says when the section is left out. A section row with
 `table` is a part's own table (params/<table>.yaml, with `part_of` and its own `absent_note`:
 pa_robust's, the L1 law's): load() expands its rows under the section's key, so every derived
 place sees one list."""
@@ -75,18 +76,20 @@ def number_text(v):
     return s.replace('e+0', 'e').replace('e+', 'e')
 
 
-def check_text(c):
+def check_text(c, typ='double'):
+    """The check as the docs write it; an int's bounds in full ('[0, 100000000]')."""
     lo, hi = c.get('min'), c.get('max')
+    text = (lambda v: str(int(v))) if typ == 'int' else number_text
     if lo is not None and hi is not None:
         return '%s%s, %s%s' % (
             '(' if c.get('min_open') else '[',
-            number_text(lo),
-            number_text(hi),
+            text(lo),
+            text(hi),
             ')' if c.get('max_open') else ']',
         )
     if lo is not None:
-        return '%s %s' % ('>' if c.get('min_open') else '>=', number_text(lo))
-    return '%s %s' % ('<' if c.get('max_open') else '<=', number_text(hi))
+        return '%s %s' % ('>' if c.get('min_open') else '>=', text(lo))
+    return '%s %s' % ('<' if c.get('max_open') else '<=', text(hi))
 
 
 def range_text(row, modes=None):
@@ -95,7 +98,7 @@ def range_text(row, modes=None):
     if 'choices' in row:
         return ', '.join('`%s`' % c for c in row['choices'])
     if 'check' in row:
-        return check_text(row['check']) + row.get('range_note', '')
+        return check_text(row['check'], row['type']) + row.get('range_note', '')
     return row.get('range', '–')
 
 

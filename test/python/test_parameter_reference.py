@@ -9,6 +9,7 @@ import unittest
 import yaml
 
 import pkg_path
+from preadaptive_mrac import params_codegen, params_table
 
 ROOT = pkg_path.ROOT
 DOC = os.path.join(ROOT, 'docs', 'parameters.md')
@@ -50,15 +51,29 @@ def function_body(text, name):
     return text[i:j]
 
 
+def generated_node_keys():
+    """node -> the keys of its struct generated from params/nodes.yaml (forEachKey)."""
+    table = params_table.load_own('nodes')
+    names = {name: node for node, name in table['structs'].items()}
+    return {names[n]: {r['key'] for r in rows} for n, rows in params_codegen.structs(table)}
+
+
 def node_keys():
-    """Private parameters each node reads, from its source."""
+    """Private parameters each node reads: for plant_sim_node and mrac_controller_node the
+    generated struct's keys when node_params.cpp reads it (readNodeRows) and the keys it reads
+    by hand; for the others, from their source."""
     keys = {}
     npc = read('src/ros/node_params.cpp')
-    rx = r'(?:r\.get\w+\(|readCount\(r, |readCallerList\(r, tree, |readClockMode\(r, tree, )"(\w+)"'
-    keys['plant_sim_node'] = set(re.findall(rx, function_body(npc, 'readPlantNodeParams')))
-    keys['mrac_controller_node'] = set(
-        re.findall(rx, function_body(npc, 'readControllerNodeParams'))
-    )
+    rx = r'(?:r\.get\w+\(|readCallerList\(r, tree, )"(\w+)"'
+    generated = generated_node_keys()
+    for node, function in (
+        ('plant_sim_node', 'readPlantNodeParams'),
+        ('mrac_controller_node', 'readControllerNodeParams'),
+    ):
+        body = function_body(npc, function)
+        keys[node] = set(re.findall(rx, body))
+        if 'readNodeRows(r, tree, &p' in body:
+            keys[node] |= generated[node]
     rec = read('src/ros/bag_recorder.cpp')
     keys['bag_recorder_node'] = set(re.findall(r'pnh\.(?:param<[^>]+>|getParam)\("(\w+)"', rec))
     keys['run_monitor_node'] = set(

@@ -121,6 +121,51 @@ class TestControllerTable(unittest.TestCase):
             self.assertIn('group', r, r['key'])
 
 
+def holds(check, v):
+    lo, hi = check.get('min'), check.get('max')
+    return (lo is None or (v > lo if check.get('min_open') else v >= lo)) and (
+        hi is None or (v < hi if check.get('max_open') else v <= hi)
+    )
+
+
+class TestNodeTable(unittest.TestCase):
+    """params/nodes.yaml's rows of the nodes with a generated struct: their defaults (the
+    generated members') are the ones the docs show and lie in their ranges."""
+
+    def setUp(self):
+        self.table = params_table.load('nodes')
+        self.rows = [
+            r for r in self.table['params'] if set(r['nodes']) & set(self.table['structs'])
+        ]
+
+    def test_every_row_of_a_generated_node_is_optional_with_a_default(self):
+        self.assertGreaterEqual(len(self.rows), 30)
+        for r in self.rows:
+            self.assertEqual(r.get('presence'), 'optional', r['key'])
+            self.assertIn('default', r, r['key'])
+
+    def test_docs_show_the_default(self):
+        def shown(v):
+            if isinstance(v, bool):
+                return 'true' if v else 'false'
+            if isinstance(v, str):
+                return v or "''"
+            if isinstance(v, list):
+                return '[]' if not v else str(v)
+            return params_table.number_text(v) if isinstance(v, float) else str(v)
+
+        for r in self.rows:
+            first = r['default_doc'].split(' ')[0].strip('`')
+            self.assertEqual(first, shown(r['default']), r['key'])
+
+    def test_defaults_lie_in_their_range(self):
+        for r in self.rows:
+            if 'check' in r:
+                self.assertTrue(holds(r['check'], r['default']), r['key'])
+            if 'choices' in r:
+                self.assertIn(r['default'], r['choices'], r['key'])
+
+
 class TestModeNames(unittest.TestCase):
     """No place keeps its own list of every mode: a line naming every mode, or every mode but
     one, as words (a list, a `|` alternation, a dict of them) fails in the sources, launch

@@ -8,11 +8,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -140,7 +142,11 @@ TEST(ControllerNodeParams, ClockLockstepOrRealtimeAndNothingElse) {
   tree.setPath("clock", pm::ParamValue::makeString("sim"));
   const auto probs =
       problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/ns/mrac_controller")); });
-  EXPECT_TRUE(anyContains(probs, "/ns/mrac_controller/clock: expected lockstep or realtime"))
+  // (the generated choices' message since the node rows are read from params/nodes.yaml; it
+  // said "expected lockstep or realtime, got 'sim'" before)
+  EXPECT_TRUE(anyContains(probs,
+                          "/ns/mrac_controller/clock: expected one of lockstep, realtime, "
+                          "got 'sim'"))
       << joined(probs);
 }
 
@@ -221,6 +227,91 @@ TEST(PlantNodeParams, CommandTimeoutReadAndChecked) {
   const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
   EXPECT_TRUE(anyContains(probs, "/plant_sim/cmd_timeout")) << joined(probs);
   EXPECT_TRUE(anyContains(probs, "/plant_sim/diagnostic_period")) << joined(probs);
+}
+
+// params/nodes.yaml's rows of each node (issue 21): left out, every key takes the row's default
+// (and is listed as filled); just outside each declared range it is refused naming the key,
+// at the bound it is taken.
+pm::ParamValue nodeRowsOf(const std::string& node) {
+  const pm::ParamValue table = pm::loadYamlFile(std::string(PMRAC_PARAMS_DIR) + "/nodes.yaml");
+  pm::ParamValue out = pm::ParamValue::makeList();
+  for (const pm::ParamValue& row : table.find("params")->list()) {
+    for (const pm::ParamValue& n : row.find("nodes")->list())
+      if (n.asString() == node) out.list().push_back(row);
+  }
+  return out;
+}
+
+std::vector<std::string> nodeProblems(const std::string& node, const pm::ParamValue& tree) {
+  return problemsOf([&] {
+    if (node == "plant_sim_node")
+      pm::ros1::readPlantNodeParams(tree, style("/n"));
+    else
+      pm::ros1::readControllerNodeParams(tree, style("/n"));
+  });
+}
+
+TEST(NodeTable, DefaultsAndRangesAreTheTablesRows) {
+  const std::map<std::string, std::vector<std::string>> configs = {
+      {"plant_sim_node", {"plant/b747.yaml", "scenarios/scenario1.yaml"}},
+      {"mrac_controller_node", {"plant/b747.yaml", "controller/default.yaml"}}};
+  int checked = 0;
+  for (const auto& nc : configs) {
+    const pm::ParamValue base = loadConfig(nc.second);
+    const pm::ParamValue rows = nodeRowsOf(nc.first);
+    ASSERT_GE(rows.list().size(), 14u) << nc.first;
+    std::vector<std::string> defaults;
+    if (nc.first == "plant_sim_node")
+      defaults = pm::ros1::readPlantNodeParams(base, style("/n")).defaults_used;
+    else
+      defaults = pm::ros1::readControllerNodeParams(base, style("/n")).defaults_used;
+    for (const pm::ParamValue& row : rows.list()) {
+      const std::string key = row.find("key")->asString();
+      const pm::ParamValue& def = *row.find("default");
+      const std::string type = row.find("type")->asString();
+      std::string shown = def.describe();
+      if (type == "string") shown = "'" + def.asString() + "'";
+      if (type == "double") shown = pm::formatNumber(def.asDouble());
+      if (key != "accept_from")
+        EXPECT_TRUE(anyContains(defaults, "/n/" + key + " = " + shown + ""))
+            << nc.first << " " << key << " " << joined(defaults);
+      const pm::ParamValue* check = row.find("check");
+      if (check == nullptr) continue;
+      for (const char* end : {"min", "max"}) {
+        const pm::ParamValue* bound = check->find(end);
+        if (bound == nullptr) continue;
+        const bool lower = std::string(end) == "min";
+        const pm::ParamValue* open = check->find(lower ? "min_open" : "max_open");
+        const double b = bound->asDouble();
+        const double outside = type == "int"
+                                   ? (lower ? b - 1 : b + 1)
+                                   : (lower ? std::nextafter(b, -1e300) : std::nextafter(b, 1e300));
+        auto value = [&](double v) {
+          return type == "int" ? pm::ParamValue::makeInt(static_cast<std::int64_t>(v))
+                               : pm::ParamValue::makeDouble(v);
+        };
+        pm::ParamValue tree = base;
+        tree.setPath(key, value(outside));
+        EXPECT_TRUE(anyContains(nodeProblems(nc.first, tree), "/n/" + key + ": must be"))
+            << nc.first << " " << key << " = " << outside;
+        if (open != nullptr && open->asBool()) continue;
+        tree.setPath(key, value(b));
+        EXPECT_FALSE(anyContains(nodeProblems(nc.first, tree), "/n/" + key + ":"))
+            << nc.first << " " << key << " = " << b;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GE(checked, 30);
+}
+
+// An int beyond 32 bits is refused, not wrapped into the range (2^32 + 5 would read as 5).
+TEST(NodeTable, IntBeyondThirtyTwoBitsIsRefusedNotWrapped) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  tree.setPath("queue_size", pm::ParamValue::makeInt(4294967301LL));
+  const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/queue_size: must fit a 32-bit int, got 4294967301"))
+      << joined(probs);
 }
 
 // Issue 10: a short start-up timeout by default (a launch with a dead controller must end

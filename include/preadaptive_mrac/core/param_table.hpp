@@ -6,6 +6,7 @@
 /// against another, a matrix's shape) stays in the component's own validate().
 
 #include <string>
+#include <type_traits>
 
 #include "preadaptive_mrac/core/param_spec.hpp"
 #include "preadaptive_mrac/core/params.hpp"
@@ -17,19 +18,36 @@ namespace preadaptive_mrac {
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, double* v);
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, int* v);
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, bool* v);
+void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, std::string* v);
+/// \brief A row with `choices`: the name read as a string, then parsed by the table's
+/// generated parseChoice (found by argument-dependent lookup beside the enum); a name that is
+/// none of them is a problem listing them all.
+template <class E, std::enable_if_t<std::is_enum<E>::value, int> = 0>
+void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, E* v) {
+  const std::string name =
+      s.presence == ParamPresence::kOptional ? r.getString(key, choiceName(*v)) : r.getString(key);
+  if (r.usable(key) && !parseChoice(name, v))
+    r.fail(key, std::string("expected one of ") + choiceNames(*v) + ", got '" + name + "'");
+}
 /// \brief A problem naming `key` when the value given there lies outside the row's check.
 void checkScalar(ParamReader& r, const std::string& key, const ParamCheck& c, double v);
 
-/// \brief Every scalar row of P's table below `prefix`; a row inside an optional section only
-/// when the section is there. Sections left out are noted with their absent_note.
+/// \brief `prefix.key`, or `key` alone for a table without a prefix (a node's private keys).
+inline std::string joinKey(const std::string& prefix, const char* key) {
+  return prefix.empty() ? std::string(key) : prefix + "." + key;
+}
+
+/// \brief Every scalar row of P's table below `prefix` ("" for a node's own keys); a row inside an
+/// optional section only when the section is there. Sections left out are noted with their
+/// absent_note.
 template <class P>
 void readScalars(ParamReader& r, const std::string& prefix, P* p) {
   P::forEachSection([&](const char* key, const char* note) {
-    if (!r.has(prefix + "." + key)) r.noteDefault(prefix + "." + key, note);
+    if (!r.has(joinKey(prefix, key))) r.noteDefault(joinKey(prefix, key), note);
   });
   P::forEachScalar(*p, [&](const ParamSpec& s, auto& v) {
-    if (s.presence == ParamPresence::kInSection && !r.has(prefix + "." + s.section)) return;
-    readScalar(r, prefix + "." + s.key, s, &v);
+    if (s.presence == ParamPresence::kInSection && !r.has(joinKey(prefix, s.section))) return;
+    readScalar(r, joinKey(prefix, s.key), s, &v);
   });
 }
 
@@ -48,7 +66,10 @@ void readSection(ParamReader& r, const std::string& prefix, P* p) {
 template <class P>
 void checkRanges(ParamReader& r, const std::string& prefix, const P& p) {
   P::forEachScalar(p, [&](const ParamSpec& s, const auto& v) {
-    if (s.check.any()) checkScalar(r, prefix + "." + s.key, s.check, static_cast<double>(v));
+    // (strings and choices have no numeric check: theirs is in the reading)
+    if constexpr (std::is_arithmetic<std::decay_t<decltype(v)>>::value) {
+      if (s.check.any()) checkScalar(r, joinKey(prefix, s.key), s.check, static_cast<double>(v));
+    }
   });
 }
 
