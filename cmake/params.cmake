@@ -6,8 +6,8 @@
 # installed with them. Generated at configure time, so that every target finds them from the
 # start, and again whenever a table or the generator changes (a header is rewritten only when
 # its text changes, so its dependants rebuild only then). The nodes' table has one struct per
-# node (`structs`); the plant and scenario tables (no struct) render docs rows only, their
-# readers are hand-written so far.
+# node (`structs`); the plant and scenario tables one per row `struct` (their scalars; the
+# matrices, vectors and schedules are read by hand).
 set(PMRAC_GENERATED_INCLUDE ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 file(GLOB PMRAC_PARAM_TABLES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/params/*.yaml)
 set(PMRAC_PARAMS_CODEGEN

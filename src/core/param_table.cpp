@@ -19,6 +19,18 @@ void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, int*
   *v = static_cast<int>(w);
 }
 
+void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, std::uint64_t* v) {
+  const std::int64_t w = s.presence == ParamPresence::kOptional
+                             ? r.getInt(key, static_cast<std::int64_t>(*v))
+                             : r.getInt(key);
+  // Checked here, not by the row's check: the unsigned member cannot hold what was refused.
+  if (w < 0) {
+    if (r.usable(key)) r.fail(key, "must be >= 0, got " + std::to_string(w));
+    return;
+  }
+  *v = static_cast<std::uint64_t>(w);
+}
+
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, bool* v) {
   *v = s.presence == ParamPresence::kOptional ? r.getBool(key, *v) : r.getBool(key);
 }

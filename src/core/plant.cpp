@@ -3,21 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "preadaptive_mrac/core/param_table.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
-
-namespace {
-// An optional duration [s] that must be a finite number >= 0; 0 when absent.
-double readNonNegative(ParamReader& r, const std::string& key) {
-  if (!r.has(key)) return 0.0;
-  const double v = r.getDouble(key);
-  if (r.usable(key) && !(v >= 0.0 && std::isfinite(v)))
-    r.fail(key, "must be a finite number >= 0 [s], got " + formatNumber(v));
-  return v;
-}
-}  // namespace
 
 PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   PlantConfig c;
@@ -30,7 +20,10 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   c.B = r.getVector(prefix + ".B", want);
   c.B1r = r.getVector(prefix + ".B1r", want);
   c.x0 = r.getVector(prefix + ".x0", want);
-  c.output_index = static_cast<int>(r.getInt(prefix + ".output_index"));
+  // The scalars come from the generated structs (params/plant.yaml: defaults, reading, ranges;
+  // output_index and operating_point.U here, each part's below); the matrices and vectors
+  // (sized by A) and the rules across keys stay by hand.
+  readChecked(r, prefix, static_cast<PlantParams*>(&c));
   if (r.has(prefix + ".actuator")) {
     const std::string a = prefix + ".actuator";
     // Delay and lag alone need no limits: the limit keys are required once any of them (or
@@ -38,22 +31,10 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
     const bool dynamics_only = (r.has(a + ".delay") || r.has(a + ".time_constant")) &&
                                !r.has(a + ".enabled") && !r.has(a + ".max_deflection") &&
                                !r.has(a + ".max_rate");
-    if (!dynamics_only) {
-      c.actuator.enabled = r.getBool(a + ".enabled");
-      c.actuator.max_deflection = r.getDouble(a + ".max_deflection");
-      c.actuator.max_rate = r.getDouble(a + ".max_rate");
-      for (const char* k : {".max_deflection", ".max_rate"})
-        if (r.usable(a + k) && !(r.getDouble(a + k) > 0.0))
-          r.fail(a + k, "must be > 0, got " + formatNumber(r.getDouble(a + k)));
-    }
-    // Absent = 0 without a note in the defaults list: a run without the new keys must report
-    // exactly what it reported before them.
-    c.dynamics.delay = readNonNegative(r, a + ".delay");
-    // The delay line holds delay / dt commands: an hour is longer than any run.
-    if (c.dynamics.delay > kMaxDelay)
-      r.fail(a + ".delay", "must be at most " + formatNumber(kMaxDelay) + " s, got " +
-                               formatNumber(c.dynamics.delay));
-    c.dynamics.time_constant = readNonNegative(r, a + ".time_constant");
+    if (!dynamics_only) readChecked(r, prefix, static_cast<ActuatorLimitsParams*>(&c.actuator));
+    // Delay and lag are optional_unnoted: absent = 0 without a note in the defaults list, so a
+    // run without them reports exactly what it reported before them.
+    readChecked(r, prefix, static_cast<ActuatorDynamicsParams*>(&c.dynamics));
   } else {
     r.noteDefault(prefix + ".actuator", "absent (no elevator limits)");
   }
@@ -63,39 +44,17 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
     for (Eigen::Index i = 0; i < c.noise.std.size(); ++i)
       if (r.usable(nk + ".std") && !(c.noise.std[i] >= 0.0))
         r.fail(nk + ".std", "must be >= 0, got " + formatNumber(c.noise.std[i]));
-    const std::int64_t seed = r.getInt(nk + ".seed");
-    if (seed < 0) r.fail(nk + ".seed", "must be >= 0");
-    c.noise.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
+    readChecked(r, prefix, static_cast<MeasurementNoiseParams*>(&c.noise));
   } else {
     r.noteDefault(prefix + ".noise", "absent (no measurement noise)");
   }
-  if (r.has(prefix + ".turbulence")) {
-    const std::string t = prefix + ".turbulence";
-    c.turbulence.enabled = r.getBool(t + ".enabled");
-    c.turbulence.sigma_w = r.getDouble(t + ".sigma_w");
-    if (r.usable(t + ".sigma_w") &&
-        !(c.turbulence.sigma_w >= 0.0 && std::isfinite(c.turbulence.sigma_w)))
-      r.fail(t + ".sigma_w",
-             "must be a finite number >= 0 [m/s], got " + formatNumber(c.turbulence.sigma_w));
-    c.turbulence.length_scale = r.getDouble(t + ".length_scale");
-    if (r.usable(t + ".length_scale") &&
-        !(c.turbulence.length_scale > 0.0 && std::isfinite(c.turbulence.length_scale)))
-      r.fail(t + ".length_scale",
-             "must be a finite number > 0 [m], got " + formatNumber(c.turbulence.length_scale));
-    const std::int64_t seed = r.getInt(t + ".seed");
-    if (seed < 0) r.fail(t + ".seed", "must be >= 0");
-    c.turbulence.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
-  }
+  // (absent: still air, without a note, as before the section existed)
+  readChecked(r, prefix, static_cast<TurbulenceParams*>(&c.turbulence));
   // The operating point documents where A and B come from; its airspeed U is the V of the
-  // turbulence filter (required when turbulence is on).
+  // turbulence filter, so required when turbulence is on.
   const std::string uk = prefix + ".operating_point.U";
-  if (r.has(uk)) {
-    c.airspeed = r.getDouble(uk);
-    if (r.usable(uk) && !(c.airspeed > 0.0 && std::isfinite(c.airspeed)))
-      r.fail(uk, "must be a finite number > 0 [m/s], got " + formatNumber(c.airspeed));
-  } else if (c.turbulence.enabled) {
+  if (!r.has(uk) && c.turbulence.enabled)
     r.fail(uk, "required when plant.turbulence.enabled is true (the gust filter's airspeed V)");
-  }
   r.markUsed(prefix + ".operating_point");
   r.markUsed(prefix + ".description");
   c.validate(r, prefix);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/param_table.hpp"
 #include "preadaptive_mrac/core/params.hpp"
 
 namespace preadaptive_mrac {
@@ -75,8 +76,9 @@ std::vector<Segment> readSegments(ParamReader& r, const std::string& key, ReadVa
 
 Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
   Scenario sc;
-  sc.name = r.getString(prefix + ".name");
-  sc.description = r.getString(prefix + ".description", "");
+  // The scalars (name, description) from the generated struct; the schedules, lists of
+  // segments with rules across them (increasing ends, one of scale and theta), by hand.
+  readChecked(r, prefix, static_cast<ScenarioParams*>(&sc));
 
   sc.theta = readSegments<ThetaSegment>(
       r, prefix + ".theta", [&](const std::string& seg, ThetaSegment* s) {

@@ -2,7 +2,8 @@
 params/<component>.yaml, a header preadaptive_mrac/params/<component>_params.hpp with
 
 - the struct of its values (the table's `struct`; the nodes' table: one per node of its
-  `structs`, of the rows naming that node), each member with its default and doc;
+  `structs`, of the rows naming that node; the plant's and scenario's: one per row `struct`,
+  of the rows naming it), each member with its default and doc;
 - `forEachScalar(self, f)`: f(ParamSpec, member) for every number, bool, string and choice the
   generic reader reads (core/param_table.hpp: readScalars, checkRanges), in the table's order;
 - `forEachSection(f)`: f(key, absent_note) for every optional section; for a node's struct
@@ -35,6 +36,7 @@ PRESENCE = {
     'required': 'ParamPresence::kRequired',
     'optional': 'ParamPresence::kOptional',
     'in_section': 'ParamPresence::kInSection',
+    'optional_unnoted': 'ParamPresence::kOptionalUnnoted',
 }
 
 
@@ -156,14 +158,22 @@ def scalar_rows(rows):
 
 
 def structs(table):
-    """(struct name, its rows) of each struct generated from a table: the table's `struct`, or
-    for the nodes' table (`structs`: node -> struct) one per node, of the rows naming it."""
+    """(struct name, its rows) of each struct generated from a table: the table's `struct`; for
+    the nodes' table (`structs`: node -> struct) one per node, of the rows naming it; else one
+    per row `struct` (the plant's parts, the scenario's scalars), of the rows naming it (the
+    rows without one, matrices, vectors and lists, are read by hand)."""
     if 'struct' in table:
         return [(table['struct'], table['params'])]
-    return [
-        (name, [r for r in table['params'] if node in r.get('nodes', ())])
-        for node, name in table.get('structs', {}).items()
-    ]
+    if 'structs' in table:
+        return [
+            (name, [r for r in table['params'] if node in r.get('nodes', ())])
+            for node, name in table['structs'].items()
+        ]
+    names = []
+    for r in table['params']:
+        if 'struct' in r and r['struct'] not in names:
+            names.append(r['struct'])
+    return [(n, [r for r in table['params'] if r.get('struct') == n]) for n in names]
 
 
 def struct_text(table, name, rows):
@@ -175,7 +185,7 @@ def struct_text(table, name, rows):
             % (
                 table['component'],
                 table['prefix'],
-                '' if 'struct' in table else ' that %s reads' % name,
+                ' that %s reads' % name if 'structs' in table else '',
             ),
             '',
         )
@@ -214,7 +224,7 @@ def struct_text(table, name, rows):
     if not any(r['type'] == 'section' and 'table' not in r for r in rows):
         out.append('    (void)f;  // no section of its own\n')
     out.append('  }\n')
-    if 'struct' not in table:
+    if 'structs' in table:
         out.append(
             '  /// \\brief Calls f(key) for each key of the struct (those read by hand too).\n'
             '  template <class F>\n'
@@ -367,7 +377,7 @@ def main(argv):
         sys.stderr.write('usage: params_codegen OUT_DIR [COMPONENT ...]  (default: every table)\n')
         return 2
     out_dir = argv[1]
-    # Tables without a struct (plant, scenario) have hand-written readers so far.
+    # (a table without a struct renders docs rows only)
     for component in argv[2:] or params_table.components():
         if not structs(params_table.load_own(component)):
             continue

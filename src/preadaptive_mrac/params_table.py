@@ -6,14 +6,16 @@ mutation study. test/python/test_params_table.py fails when a derived place disa
 test_config's ParamTable tests hold the C++ reading and validation against the same table.
 
 A row: key (below the component's prefix), type, unit, presence (required | optional |
-in_section | section), default (the value of the shipped YAML and of the struct), check (min,
-max, min_open, max_open: what the validation accepts, for double and int), range (text, where
-no check can say it) or range_note (added after the check's text), tunable (the
-dynamic_reconfigure name, with group) and doc (one line). default_doc overrides the rendered
-default where a value cannot be shown (a matrix, a section).
+in_section | section | optional_unnoted: absent keeps the default without the start-up note),
+default (the value of the shipped YAML and of the struct; the plant's parts: of the struct when
+the section is left out), check (min, max, min_open, max_open: what the validation accepts, for
+double and int), range (text, where no check can say it) or range_note (added after the
+check's text), tunable (the dynamic_reconfigure name, with group) and doc (one line).
+default_doc overrides the rendered default where a value cannot be shown (a matrix, a section).
 
 For the generated C++ (params_codegen.py): the table's `struct` names the generated struct of
-its values (the nodes' table: `structs`, node -> struct of the rows naming it); a row's `field`
+its values (the nodes' table: `structs`, node -> struct of the rows naming it; the plant's and
+scenario's: a row's `struct`, one struct per name, of the rows naming it); a row's `field`
 its member (default: the key's last part), `cpp_type` a member type other than the type's own
 (with `choices`: the enum of them, generated with its parser; `enum_header`: the header that
 declares it instead), `read: custom` a value the component's read() reads itself (a string
@@ -120,6 +122,7 @@ def default_text(row):
         'required': '**required** (%s)',
         'optional': 'optional (%s)',
         'in_section': '**required** in the section (%s)',
+        'optional_unnoted': 'optional (%s)',
     }[row['presence']] % v
 
 

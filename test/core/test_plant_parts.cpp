@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/actuator.hpp"
+#include "preadaptive_mrac/core/param_table.hpp"
 #include "preadaptive_mrac/core/scenario_plant.hpp"
 #include "preadaptive_mrac/core/turbulence.hpp"
 #include "test_helpers.hpp"
@@ -263,11 +264,13 @@ TEST(Config, ConditionsAreValidatedNamingTheKey) {
   t.setPath("scenario.effectiveness", eff);
   const std::string all = problems(t);
   for (const char* key :
-       {"plant.actuator.delay: must be a finite number >= 0",
-        "plant.actuator.time_constant: must be a finite number >= 0",
-        "plant.turbulence.sigma_w: must be a finite number >= 0",
-        "plant.turbulence.length_scale: must be a finite number > 0",
-        "plant.operating_point.U: must be a finite number > 0",
+       // (the generic range check of params/plant.yaml's rows since issue 21; it said "must be
+       // a finite number >= 0 [s], got -0.01" before: NaN and inf, below, are still refused)
+       {"plant.actuator.delay: must be in [0, 3600], got -0.01",
+        "plant.actuator.time_constant: must be >= 0, got -1",
+        "plant.turbulence.sigma_w: must be >= 0, got -1",
+        "plant.turbulence.length_scale: must be > 0, got 0",
+        "plant.operating_point.U: must be > 0, got -3",
         "scenario.effectiveness.1.until: segments must end at increasing times",
         "scenario.effectiveness.1.value: elevator effectiveness must be in (0, 2]",
         "scenario.effectiveness.2.value: elevator effectiveness must be in (0, 2]"})
@@ -291,4 +294,60 @@ TEST(Config, ConditionsAreValidatedNamingTheKey) {
   early.setPath("scenario.effectiveness", ParamValue::makeList({segment(30.0, "value", 0.5)}));
   EXPECT_NE(problems(early).find("scenario.effectiveness: the last effectiveness segment"),
             std::string::npos);
+}
+
+// The plant's scalars read from params/plant.yaml's generated structs (issue 21): NaN and inf
+// are refused naming the key wherever the hand-written reader refused them (it said "finite").
+TEST(Config, PlantScalarsRefuseNanAndInfNamingTheKey) {
+  const char* keys[] = {"plant.actuator.delay",          "plant.actuator.time_constant",
+                        "plant.actuator.max_deflection", "plant.actuator.max_rate",
+                        "plant.turbulence.sigma_w",      "plant.turbulence.length_scale",
+                        "plant.operating_point.U"};
+  for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    ParamValue t = test::packageTree("1");
+    t.setPath("plant.turbulence.enabled", ParamValue::makeBool(true));
+    t.setPath("plant.turbulence.seed", ParamValue::makeInt(1));
+    for (const char* key : keys) t.setPath(key, num(bad));
+    const std::string all = problems(t);
+    for (const char* key : keys)
+      EXPECT_NE(all.find(std::string(key) + ": expected a finite number"), std::string::npos)
+          << key << " = " << bad << "\n"
+          << all;
+  }
+}
+
+// Seeds stay 64-bit: one above 2^32 is taken whole (not cut to an int), a negative one refused.
+TEST(Config, PlantSeedsAreSixtyFourBit) {
+  ParamValue t = test::packageTree("1");
+  const std::int64_t big = (std::int64_t{1} << 40) + 7;
+  t.setPath("plant.turbulence.enabled", ParamValue::makeBool(false));
+  t.setPath("plant.turbulence.sigma_w", num(1.0));
+  t.setPath("plant.turbulence.length_scale", num(533.4));
+  t.setPath("plant.turbulence.seed", ParamValue::makeInt(big));
+  t.setPath("plant.noise.std", ParamValue::makeList({num(0.0), num(0.0), num(0.0)}));
+  t.setPath("plant.noise.seed", ParamValue::makeInt(big + 1));
+  const RunConfig cfg = readRunConfig(t);
+  EXPECT_EQ(cfg.plant.turbulence.seed, static_cast<std::uint64_t>(big));
+  EXPECT_EQ(cfg.plant.noise.seed, static_cast<std::uint64_t>(big + 1));
+  t.setPath("plant.turbulence.seed", ParamValue::makeInt(-1));
+  t.setPath("plant.noise.seed", ParamValue::makeInt(-2));
+  const std::string all = problems(t);
+  EXPECT_NE(all.find("plant.turbulence.seed: must be >= 0, got -1"), std::string::npos) << all;
+  EXPECT_NE(all.find("plant.noise.seed: must be >= 0, got -2"), std::string::npos) << all;
+}
+
+// The delay line is sized by kMaxDelay; the table's range of plant.actuator.delay (what the
+// reader checks and the docs show) ends there.
+TEST(Config, DelayRangeOfTheTableIsMaxDelay) {
+  double hi = 0.0;
+  ActuatorDynamicsParams p;
+  ActuatorDynamicsParams::forEachScalar(p, [&](const ParamSpec& s, const double&) {
+    if (std::string(s.key) == "actuator.delay") hi = s.check.hi;
+  });
+  EXPECT_EQ(hi, kMaxDelay);
+  ParamValue t = test::packageTree("1");
+  t.setPath("plant.actuator.delay", num(kMaxDelay + 1.0));
+  EXPECT_NE(problems(t).find("plant.actuator.delay: must be in [0, 3600], got 3601"),
+            std::string::npos)
+      << problems(t);
 }

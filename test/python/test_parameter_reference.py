@@ -95,6 +95,16 @@ def config_code_suffixes():
         'src/core/scenario.cpp',
     ):
         out |= set(re.findall(r'"\.([a-zA-Z_][\w.]*)"', read(rel)))
+    # The scalars the plant and scenario read through the generic reader: the keys (and their
+    # sections) of each struct generated from their tables that the reader reads.
+    for component in ('plant', 'scenario'):
+        text = read('src/core/%s.cpp' % component)
+        for name, rows in params_codegen.structs(params_table.load_own(component)):
+            if 'static_cast<%s*>' % name not in text:
+                continue
+            for r in rows:
+                parts = r['key'].split('.')
+                out |= {'.'.join(parts[: i + 1]) for i in range(len(parts))}
     return out
 
 

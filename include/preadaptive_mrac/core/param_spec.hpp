@@ -6,9 +6,10 @@
 
 namespace preadaptive_mrac {
 
-/// \brief A row's `presence`: required, optional (absent keeps the default, noted), or
-/// required inside an optional section (read only when the section is there).
-enum class ParamPresence { kRequired, kOptional, kInSection };
+/// \brief A row's `presence`: required, optional (absent keeps the default, noted), required
+/// inside an optional section (read only when the section is there), or optional without the
+/// note (a key added later: a run without it reports exactly what it reported before it).
+enum class ParamPresence { kRequired, kOptional, kInSection, kOptionalUnnoted };
 
 /// \brief A row's `check`: the range the validation accepts (bounds open or closed).
 struct ParamCheck {

@@ -5,6 +5,7 @@
 /// against its range, each problem naming its key. What no table row can say (a value checked
 /// against another, a matrix's shape) stays in the component's own validate().
 
+#include <cstdint>
 #include <string>
 #include <type_traits>
 
@@ -17,6 +18,9 @@ namespace preadaptive_mrac {
 /// declared default) and are noted.
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, double* v);
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, int* v);
+/// \brief A seed: any int64 >= 0 is taken whole (not cut to 32 bits); a negative one is a
+/// problem naming `key`.
+void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, std::uint64_t* v);
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, bool* v);
 void readScalar(ParamReader& r, const std::string& key, const ParamSpec& s, std::string* v);
 /// \brief A row with `choices`: the name read as a string, then parsed by the table's
@@ -47,6 +51,8 @@ void readScalars(ParamReader& r, const std::string& prefix, P* p) {
   });
   P::forEachScalar(*p, [&](const ParamSpec& s, auto& v) {
     if (s.presence == ParamPresence::kInSection && !r.has(joinKey(prefix, s.section))) return;
+    // (absent: the default, not noted; present: read as a required key)
+    if (s.presence == ParamPresence::kOptionalUnnoted && !r.has(joinKey(prefix, s.key))) return;
     readScalar(r, joinKey(prefix, s.key), s, &v);
   });
 }
@@ -71,6 +77,14 @@ void checkRanges(ParamReader& r, const std::string& prefix, const P& p) {
       if (s.check.any()) checkScalar(r, joinKey(prefix, s.key), s.check, static_cast<double>(v));
     }
   });
+}
+
+/// \brief readScalars, then checkRanges: a part read on its own, in a section its owner
+/// handles (the plant's parts: sections without an absent_note of their own).
+template <class P>
+void readChecked(ParamReader& r, const std::string& prefix, P* p) {
+  readScalars(r, prefix, p);
+  checkRanges(r, prefix, *p);
 }
 
 }  // namespace preadaptive_mrac

@@ -7,17 +7,18 @@
 #include <string>
 
 #include "preadaptive_mrac/core/types.hpp"
+#include "preadaptive_mrac/params/plant_params.hpp"
 
 namespace preadaptive_mrac {
 
 class ParamReader;
 
-/// \brief Plant model and initial state, as read from config/plant/*.yaml (key `plant`).
-/// \brief Elevator magnitude and rate limits (key plant.actuator; optional, off when absent).
-struct ActuatorLimits {
-  bool enabled = false;
-  double max_deflection = 0.0;  ///< |u| <= max_deflection [rad]
-  double max_rate = 0.0;        ///< |du/dt| <= max_rate [rad/s]
+// The scalars of each part (enabled, max_deflection, ...: members, defaults, ranges) are the
+// structs generated from params/plant.yaml; the parts add the vectors and the behaviour.
+
+/// \brief Elevator magnitude and rate limits (key plant.actuator; optional, off when absent):
+/// enabled, max_deflection [rad] (|u| <= it), max_rate [rad/s] (|du/dt| <= it).
+struct ActuatorLimits : ActuatorLimitsParams {
   /// \brief The deflection the actuator reaches over one step of dt [s] when commanded u
   /// from u_prev [rad]: rate-limited, then clamped. The identity when disabled.
   double apply(double u, double u_prev, double dt) const;
@@ -27,25 +28,22 @@ struct ActuatorLimits {
 constexpr double kMaxDelay = 3600.0;
 
 /// \brief Delay and lag of the elevator servo (keys plant.actuator.delay and
-/// plant.actuator.time_constant; 0 when absent, the paper's instant elevator).
-struct ActuatorDynamics {
-  double delay = 0.0;          ///< transport delay [s], rounded to whole samples
-  double time_constant = 0.0;  ///< first-order lag T [s]; 0 = none
-};
+/// plant.actuator.time_constant; 0 when absent, the paper's instant elevator): delay [s],
+/// rounded to whole samples, and the first-order lag T [s] (0 = none). The table's range of
+/// the delay ends at kMaxDelay (test_plant_parts holds them equal).
+struct ActuatorDynamics : ActuatorDynamicsParams {};
 
-/// \brief Key plant.turbulence (optional; off when absent).
-struct TurbulenceConfig {
-  bool enabled = false;
-  double sigma_w = 0.0;       ///< standard deviation of the vertical gust w_g [m/s], >= 0
-  double length_scale = 0.0;  ///< Dryden scale length L_w [m], > 0
-  std::uint64_t seed = 0;     ///< seed of the gust's own noise stream
+/// \brief Key plant.turbulence (optional; off when absent): enabled, sigma_w (standard
+/// deviation of the vertical gust w_g [m/s]), length_scale (Dryden L_w [m]), seed (the gust's
+/// own noise stream).
+struct TurbulenceConfig : TurbulenceParams {
   bool active() const { return enabled && sigma_w > 0.0; }
 };
 
-/// \brief Gaussian noise added to the measured state (key plant.noise; optional, off when absent).
-struct MeasurementNoise {
-  Eigen::VectorXd std;     ///< standard deviation per state (n) [units of x]
-  std::uint64_t seed = 0;  ///< seed of the noise sequence
+/// \brief Gaussian noise added to the measured state (key plant.noise; optional, off when
+/// absent); its seed is the generated part.
+struct MeasurementNoise : MeasurementNoiseParams {
+  Eigen::VectorXd std;  ///< standard deviation per state (n) [units of x]
   bool active() const { return std.size() > 0 && std.cwiseAbs().maxCoeff() > 0.0; }
 };
 
@@ -66,17 +64,18 @@ class GaussianSource {
   double spare_ = 0.0;
 };
 
-struct PlantConfig {
+/// \brief Plant model and initial state, as read from config/plant/*.yaml (key `plant`); the
+/// generated part holds output_index (y = x[output_index], alpha) and airspeed
+/// (plant.operating_point.U [m/s]; 0 when absent, needed by turbulence).
+struct PlantConfig : PlantParams {
   Eigen::MatrixXd A;            ///< state matrix (n x n)
   Eigen::VectorXd B;            ///< input vector (n)
   Eigen::VectorXd B1r;          ///< reference input vector (n)
   Eigen::VectorXd x0;           ///< initial state (n) [e_I rad s, alpha rad, q rad/s]
-  int output_index = 1;         ///< y = x[output_index] (alpha)
   ActuatorLimits actuator;      ///< applied by the plant, known to the controller
   MeasurementNoise noise;       ///< added to what the plant publishes as measured
   ActuatorDynamics dynamics;    ///< servo delay and lag (the controller is not told)
   TurbulenceConfig turbulence;  ///< Dryden vertical gust (the controller is not told)
-  double airspeed = 0.0;  ///< plant.operating_point.U [m/s]; 0 when absent (needed by turbulence)
 
   int n() const { return static_cast<int>(A.rows()); }
   /// \brief Read the `plant` section; problems go to the reader.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/types.hpp"
+#include "preadaptive_mrac/params/scenario_params.hpp"
 
 namespace preadaptive_mrac {
 
@@ -15,7 +16,8 @@ class ParamReader;
 ///
 /// A segment holds on (previous until, until]: theta changes right after the listed time,
 /// as in the paper's eqs. theta-scenario-1/2/3. The last segment's `until` is the end time.
-struct Scenario {
+/// Its name and description are the struct generated from params/scenario.yaml.
+struct Scenario : ScenarioParams {
   struct ThetaSegment {
     double until;
     Eigen::VectorXd theta;
@@ -29,8 +31,6 @@ struct Scenario {
     double until;
     double value;
   };
-  std::string name;
-  std::string description;
   std::vector<ThetaSegment> theta;
   std::vector<RefSegment> reference;
   /// Elevator effectiveness schedule (key `effectiveness`); empty = Lambda 1 throughout.
