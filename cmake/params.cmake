@@ -13,21 +13,15 @@ file(GLOB PMRAC_PARAM_TABLES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/param
 set(PMRAC_PARAMS_CODEGEN
   ${CMAKE_COMMAND} -E env PYTHONPATH=${CMAKE_CURRENT_SOURCE_DIR}/src
   ${PYTHON_EXECUTABLE} -m preadaptive_mrac.params_codegen ${PMRAC_GENERATED_INCLUDE})
-# The modes' table (params/modes.yaml) becomes preadaptive_mrac/params/modes_params.hpp, the
-# rows of the C++ mode registry.
-set(PMRAC_MODES_CODEGEN
-  ${CMAKE_COMMAND} -E env PYTHONPATH=${CMAKE_CURRENT_SOURCE_DIR}/src
-  ${PYTHON_EXECUTABLE} -m preadaptive_mrac.modes ${PMRAC_GENERATED_INCLUDE})
-foreach(_pmrac_gen PMRAC_PARAMS_CODEGEN PMRAC_MODES_CODEGEN)
-  execute_process(COMMAND ${${_pmrac_gen}} RESULT_VARIABLE _pmrac_codegen_rc)
-  if(NOT _pmrac_codegen_rc EQUAL 0)
-    message(FATAL_ERROR "preadaptive_mrac: ${_pmrac_gen} failed on params/*.yaml (see above)")
-  endif()
-endforeach()
+# (with every table, the modes' table params/modes.yaml becomes
+# preadaptive_mrac/params/modes_params.hpp: the rows of the C++ mode registry)
+execute_process(COMMAND ${PMRAC_PARAMS_CODEGEN} RESULT_VARIABLE _pmrac_codegen_rc)
+if(NOT _pmrac_codegen_rc EQUAL 0)
+  message(FATAL_ERROR "preadaptive_mrac: params_codegen failed on params/*.yaml (see above)")
+endif()
 add_custom_command(
   OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/params_codegen.stamp
   COMMAND ${PMRAC_PARAMS_CODEGEN}
-  COMMAND ${PMRAC_MODES_CODEGEN}
   COMMAND ${CMAKE_COMMAND} -E touch ${CMAKE_CURRENT_BINARY_DIR}/params_codegen.stamp
   DEPENDS ${PMRAC_PARAM_TABLES}
           ${CMAKE_CURRENT_SOURCE_DIR}/src/preadaptive_mrac/params_codegen.py

@@ -1,12 +1,12 @@
 """The modes, from their one table params/modes.yaml (issue 21: no hand-kept mode lists).
 
 The C++ registry (src/core/mode_registry.cpp) is built from the same rows through the header
-this module writes (`python3 -m preadaptive_mrac.modes OUT_DIR`, run by cmake/params.cmake into
-the devel space: preadaptive_mrac/params/modes_params.hpp), so `preadapt_sim --list-modes`,
-the CLI, the nodes and this package name the same modes in the same order."""
+this module writes (`write_header`: preadaptive_mrac/params/modes_params.hpp; params_codegen
+calls it with every table, as cmake/params.cmake and scripts/fuzz run it), so
+`preadapt_sim --list-modes`, the CLI, the nodes and this package name the same modes in the
+same order."""
 
 import os
-import sys
 
 import yaml
 
@@ -112,9 +112,3 @@ def write_header(out_dir):
                 return
     with open(path, 'w') as f:
         f.write(text)
-
-
-if __name__ == '__main__':
-    if len(sys.argv) != 2:
-        sys.exit('usage: python3 -m preadaptive_mrac.modes OUT_DIR')
-    write_header(sys.argv[1])

@@ -23,7 +23,7 @@ import os
 import sys
 import textwrap
 
-from . import params_table
+from . import modes, params_table
 
 CPP_TYPES = {
     'double': 'double',
@@ -385,6 +385,8 @@ def main(argv):
             os.path.join(out_dir, 'preadaptive_mrac', 'params', component + '_params.hpp'),
             header(component),
         )
+    if not argv[2:]:  # every table: the modes' table too (its rows, the C++ mode registry's)
+        modes.write_header(out_dir)
     return 0
 
 
