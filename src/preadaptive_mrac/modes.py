@@ -1,8 +1,8 @@
 """The modes, from their one table params/modes.yaml (issue 21: no hand-kept mode lists).
 
 The C++ registry (src/core/mode_registry.cpp) is built from the same rows through the header
-this module writes (`write_header`: preadaptive_mrac/params/modes_params.hpp; params_codegen
-calls it with every table, as cmake/params.cmake and scripts/fuzz run it), so
+of `header_text()` (preadaptive_mrac/params/modes_params.hpp, written by params_codegen with
+every table, as cmake/params.cmake and scripts/fuzz run it), so
 `preadapt_sim --list-modes`, the CLI, the nodes and this package name the same modes in the
 same order."""
 
@@ -98,17 +98,3 @@ def header_text():
         '}  // namespace params\n'
         '}  // namespace preadaptive_mrac\n'
     )
-
-
-def write_header(out_dir):
-    """Writes OUT_DIR/preadaptive_mrac/params/modes_params.hpp, only when its text changes."""
-    d = os.path.join(out_dir, 'preadaptive_mrac', 'params')
-    os.makedirs(d, exist_ok=True)
-    path = os.path.join(d, 'modes_params.hpp')
-    text = header_text()
-    if os.path.exists(path):
-        with open(path) as f:
-            if f.read() == text:
-                return
-    with open(path, 'w') as f:
-        f.write(text)

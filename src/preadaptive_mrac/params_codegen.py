@@ -386,7 +386,10 @@ def main(argv):
             header(component),
         )
     if not argv[2:]:  # every table: the modes' table too (its rows, the C++ mode registry's)
-        modes.write_header(out_dir)
+        write_if_changed(
+            os.path.join(out_dir, 'preadaptive_mrac', 'params', 'modes_params.hpp'),
+            modes.header_text(),
+        )
     return 0
 
 
