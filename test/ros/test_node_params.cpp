@@ -217,6 +217,17 @@ TEST(ControllerNodeParams, StaleKeysReadAndKnown) {
       problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
   EXPECT_TRUE(anyContains(probs, "/mrac_controller/stale_timeout")) << joined(probs);
   EXPECT_FALSE(anyContains(probs, "unknown parameter")) << joined(probs);
+  // The table's names and nothing else (the generated parser; core's hand-written twin,
+  // parseStalePolicy, is gone).
+  pm::StalePolicy sp = pm::StalePolicy::kZero;
+  EXPECT_TRUE(pm::parseChoice("baseline_hold", &sp));
+  EXPECT_EQ(sp, pm::StalePolicy::kBaselineHold);
+  EXPECT_FALSE(pm::parseChoice("hold", &sp));
+  EXPECT_STREQ(pm::choiceName(pm::StalePolicy::kZero), "zero");
+  tree.setPath("stale_policy", pm::ParamValue::makeString("hold"));
+  EXPECT_TRUE(anyContains(
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); }),
+      "/mrac_controller/stale_policy: expected one of baseline_hold, zero, got 'hold'"));
 }
 
 TEST(PlantNodeParams, CommandTimeoutReadAndChecked) {
