@@ -5,18 +5,6 @@
 
 namespace preadaptive_mrac {
 
-bool parseStalePolicy(const std::string& s, StalePolicy* out) {
-  if (s == "baseline_hold") {
-    *out = StalePolicy::kBaselineHold;
-    return true;
-  }
-  if (s == "zero") {
-    *out = StalePolicy::kZero;
-    return true;
-  }
-  return false;
-}
-
 std::string InputGuard::check(const double* x, std::size_t size, const char* field) const {
   if (size != size_)
     return std::string(field) + " has " + std::to_string(size) + " entries, expected " +

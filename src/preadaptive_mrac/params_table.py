@@ -25,6 +25,7 @@ row's `absent_note` what the start-up line says when the section is left out. A 
 pa_robust's, the L1 law's): load() expands its rows under the section's key, so every derived
 place sees one list."""
 
+import math
 import os
 
 import yaml
@@ -189,3 +190,54 @@ def optional_keys(component):
         for r in t['params']
         if r['presence'] == 'optional' and r['type'] != 'section'
     ]
+
+
+def node_rows(node):
+    """The rows of params/nodes.yaml naming `node` (a node's private parameters)."""
+    return [r for r in load('nodes')['params'] if node in r['nodes']]
+
+
+def _type_problem(value, typ):
+    """Why `value` (as rospy gives it) is not of the row's type; None when it is."""
+    if typ == 'string':
+        ok = isinstance(value, str)
+    elif typ == 'bool':
+        ok = isinstance(value, bool)
+    elif typ == 'int':
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    else:  # double: an int is a number too (a launch <param value="30"/> without a type)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if ok and not math.isfinite(value):
+            return 'expected a finite number, got %r' % (value,)
+    return None if ok else 'expected %s %s, got %r' % ('an' if typ == 'int' else 'a', typ, value)
+
+
+def _check_problem(value, c, typ):
+    """Why `value` lies outside the row's check (the C++ reader's wording); None when inside."""
+    lo, hi = c.get('min'), c.get('max')
+    if lo is not None and (value <= lo if c.get('min_open') else value < lo):
+        return 'must be %s, got %r' % (check_text(c, typ), value)
+    if hi is not None and (value >= hi if c.get('max_open') else value > hi):
+        return 'must be %s, got %r' % (check_text(c, typ), value)
+    return None
+
+
+def read_node_params(node, given, root='~'):
+    """A Python node's private parameters (viz_markers) from its table rows: `given` is the dict
+    of its private namespace (rospy.get_param('~', {})); each key left out takes the row's
+    default, each given one is checked against the row's type and check. Returns (values by
+    key, problems), every problem at once, each naming `root + key`."""
+    values, problems = {}, []
+    for row in node_rows(node):
+        key = row['key']
+        if key not in given:
+            values[key] = row['default']
+            continue
+        v = given[key]
+        why = _type_problem(v, row['type'])
+        if why is None and 'check' in row:
+            why = _check_problem(v, row['check'], row['type'])
+        if why is not None:
+            problems.append('%s%s: %s' % (root, key, why))
+        values[key] = float(v) if row['type'] == 'double' and why is None else v
+    return values, problems

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
-#include <set>
 #include <sstream>
 #include <type_traits>
 
@@ -269,75 +268,19 @@ void BagRecorder::finish() {
 }
 
 std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx) {
-  ros::NodeHandle pnh = ctx.pnh();
+  // The types ~types may name: those subscribeTyped is instantiated for, and "" (any type).
+  const std::vector<std::string> types = {"",
+                                          ros::message_traits::datatype<PlantState>(),
+                                          ros::message_traits::datatype<PlantTruth>(),
+                                          ros::message_traits::datatype<ElevatorCommand>(),
+                                          ros::message_traits::datatype<AttentionEvent>(),
+                                          ros::message_traits::datatype<AdaptationStatus>(),
+                                          ros::message_traits::datatype<tf2_msgs::TFMessage>()};
+  const auto read = [&types](const ParamValue& tree, const KeyStyle& style) {
+    return readBagRecorderParams(tree, style, types);
+  };
   BagRecorderParams p;
-  std::vector<std::string> problems;
-  XmlRpc::XmlRpcValue v;
-  if (!pnh.getParam("topics", v) || v.getType() != XmlRpc::XmlRpcValue::TypeArray ||
-      v.size() == 0) {
-    problems.push_back(pnh.resolveName("topics") + ": expected a non-empty list of topic names");
-  } else {
-    for (int i = 0; i < v.size(); ++i) {
-      if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
-        problems.push_back(pnh.resolveName("topics") + "[" + std::to_string(i) +
-                           "]: expected a topic name");
-      } else {
-        p.topics.push_back(static_cast<std::string>(v[i]));
-      }
-    }
-  }
-  if (pnh.getParam("types", v)) {
-    if (v.getType() != XmlRpc::XmlRpcValue::TypeArray ||
-        v.size() != static_cast<int>(p.topics.size())) {
-      problems.push_back(pnh.resolveName("types") + ": expected a list of " +
-                         std::to_string(p.topics.size()) + " type names, one per ~topics entry");
-    } else {
-      const std::set<std::string> known = {"",
-                                           ros::message_traits::datatype<PlantState>(),
-                                           ros::message_traits::datatype<PlantTruth>(),
-                                           ros::message_traits::datatype<ElevatorCommand>(),
-                                           ros::message_traits::datatype<AttentionEvent>(),
-                                           ros::message_traits::datatype<AdaptationStatus>(),
-                                           ros::message_traits::datatype<tf2_msgs::TFMessage>()};
-      for (int i = 0; i < v.size(); ++i) {
-        const std::string key = pnh.resolveName("types") + "[" + std::to_string(i) + "]";
-        if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
-          problems.push_back(key + ": expected a type name");
-        } else if (known.count(static_cast<std::string>(v[i])) == 0) {
-          problems.push_back(key + ": '" + static_cast<std::string>(v[i]) +
-                             "' is not one of this package's messages or tf2_msgs/TFMessage "
-                             "(\"\" records any type)");
-        } else {
-          p.types.push_back(static_cast<std::string>(v[i]));
-        }
-      }
-    }
-  }
-  pnh.param<std::string>("output", p.output, "");
-  pnh.param<std::string>("output_prefix", p.output_prefix, "");
-  pnh.param<int>("progress_every", p.progress_every, 100);
-  pnh.param<double>("split_size_mb", p.split_size_mb, 0.0);
-  pnh.param<double>("split_duration", p.split_duration, 0.0);
-  pnh.param<int>("chunk_size_kb", p.chunk_size_kb, 768);
-  if (!(p.split_size_mb >= 0.0 && p.split_size_mb <= 1e6))
-    problems.push_back(pnh.resolveName("split_size_mb") + ": must be in [0, 1e6] MB, got " +
-                       std::to_string(p.split_size_mb));
-  if (!(p.split_duration >= 0.0 && p.split_duration <= 1e7))
-    problems.push_back(pnh.resolveName("split_duration") + ": must be in [0, 1e7] s, got " +
-                       std::to_string(p.split_duration));
-  if (p.chunk_size_kb < 1 || p.chunk_size_kb > 1024 * 1024)
-    problems.push_back(pnh.resolveName("chunk_size_kb") + ": must be in [1, 1048576], got " +
-                       std::to_string(p.chunk_size_kb));
-  if (p.progress_every < 1)
-    problems.push_back(pnh.resolveName("progress_every") + ": must be >= 1, got " +
-                       std::to_string(p.progress_every));
-  if (p.output.empty() && p.output_prefix.empty())
-    problems.push_back(pnh.resolveName("output") + ": set ~output or ~output_prefix");
-  if (!problems.empty()) {
-    ctx.logConfigProblems(problems);
-    ctx.end(kExitConfigError);
-    return nullptr;
-  }
+  if (!readNodeParams(ctx, read, &p)) return nullptr;
   try {
     return std::make_unique<BagRecorder>(ctx, p);
   } catch (const std::exception& e) {

@@ -1,5 +1,7 @@
 #include "preadaptive_mrac/ros/node_params.hpp"
 
+#include <algorithm>
+#include <functional>
 #include <initializer_list>
 #include <set>
 
@@ -12,16 +14,15 @@ namespace ros1 {
 namespace {
 
 /// The node's own rows of params/nodes.yaml (P: a generated struct): each read with its default
-/// and range-checked, and every key not one of P's, the config sections or `extra` rejected
-/// (typos such as ~clok should not pass silently). The config sections (plant, controller,
-/// scenario) are allowed in both nodes so that one layered YAML can be loaded into either.
+/// and range-checked, and every key not one of P's or `extra` rejected (typos such as ~clok
+/// should not pass silently). The plant and controller nodes pass the config sections (plant,
+/// controller, scenario) as `extra`, so that one layered YAML can be loaded into either.
 template <class P>
 void readNodeRows(ParamReader& r, const ParamValue& tree, P* p,
-                  std::initializer_list<const char*> extra = {}) {
+                  std::initializer_list<const char*> extra) {
   readScalars(r, "", p);
   checkRanges(r, "", *p);
-  std::set<std::string> known = {"plant", "controller", "scenario"};
-  known.insert(extra.begin(), extra.end());
+  std::set<std::string> known(extra.begin(), extra.end());
   P::forEachKey([&](const char* key) { known.insert(key); });
   if (tree.type() != ParamValue::Type::kMap) return;
   for (const auto& kv : tree.map()) {
@@ -29,35 +30,69 @@ void readNodeRows(ParamReader& r, const ParamValue& tree, P* p,
   }
 }
 
+const std::initializer_list<const char*> kConfigSections = {"plant", "controller", "scenario"};
+
+/// A list of strings (a row read `custom`: no table row can say what each entry must be). False
+/// when `key` is absent. Given, it must be a list (else a problem: "expected <list_what>, got
+/// ..."); each entry that is not a string, or that `why_not` finds fault with (its text; "" =
+/// fine), is a problem naming the entry (".../key/1") and left out of `out`.
+bool readStringList(ParamReader& r, const ParamValue& tree, const std::string& key,
+                    const std::string& list_what, const std::string& entry_what,
+                    const std::function<std::string(const std::string&)>& why_not,
+                    std::vector<std::string>* out) {
+  const ParamValue* v = tree.findPath(key);
+  if (v == nullptr) return false;
+  if (v->type() != ParamValue::Type::kList) {
+    r.fail(key, "expected " + list_what + ", got " + ParamValue::typeName(v->type()) + " " +
+                    v->describe());
+    return true;
+  }
+  for (std::size_t i = 0; i < v->list().size(); ++i) {
+    const ParamValue& e = v->list()[i];
+    const std::string entry = key + "." + std::to_string(i);
+    if (e.type() != ParamValue::Type::kString) {
+      r.fail(entry, "expected " + entry_what + " (string), got " + ParamValue::typeName(e.type()) +
+                        " " + e.describe());
+      continue;
+    }
+    const std::string why = why_not(e.asString());
+    if (why.empty())
+      out->push_back(e.asString());
+    else
+      r.fail(entry, "'" + e.asString() + "' " + why);
+  }
+  return true;
+}
+
+/// A required, non-empty list of topic names (~topics, ~state_topics).
+std::vector<std::string> readTopicList(ParamReader& r, const ParamValue& tree,
+                                       const std::string& key, const std::string& list_what) {
+  std::vector<std::string> out;
+  const ParamValue* v = tree.findPath(key);
+  if (v == nullptr) {
+    r.fail(key, "missing: expected " + list_what);
+  } else if (v->type() == ParamValue::Type::kList && v->list().empty()) {
+    r.fail(key, "expected " + list_what + ", got []");
+  } else {
+    const auto any = [](const std::string&) { return std::string(); };
+    readStringList(r, tree, key, list_what, "a topic name", any, &out);
+  }
+  return out;
+}
+
 /// ~accept_from: a list of node names (PublisherGuard); absent or [] = any publisher. Each
 /// entry that is not a string or not a node name is a problem naming it (".../accept_from/1").
 std::vector<std::string> readCallerList(ParamReader& r, const ParamValue& tree,
                                         const std::string& key) {
   std::vector<std::string> out;
-  const ParamValue* v = tree.findPath(key);
-  if (v == nullptr) {
-    r.noteDefault(key, "[] (any publisher)");
-    return out;
-  }
-  if (v->type() != ParamValue::Type::kList) {
-    r.fail(key, std::string("expected a list of node names (e.g. [/mrac_controller]; [] = any "
-                            "publisher), got ") +
-                    ParamValue::typeName(v->type()) + " " + v->describe());
-    return out;
-  }
-  for (std::size_t i = 0; i < v->list().size(); ++i) {
-    const ParamValue& e = v->list()[i];
-    const std::string entry = key + "." + std::to_string(i);
+  const auto why_not = [](const std::string& name) {
     std::string why;
-    if (e.type() != ParamValue::Type::kString) {
-      r.fail(entry, std::string("expected a node name (string), got ") +
-                        ParamValue::typeName(e.type()) + " " + e.describe());
-    } else if (!validCallerName(e.asString(), &why)) {
-      r.fail(entry, "'" + e.asString() + "' is not a node name: " + why);
-    } else {
-      out.push_back(e.asString());
-    }
-  }
+    return validCallerName(name, &why) ? std::string() : "is not a node name: " + why;
+  };
+  if (!readStringList(r, tree, key,
+                      "a list of node names (e.g. [/mrac_controller]; [] = any publisher)",
+                      "a node name", why_not, &out))
+    r.noteDefault(key, "[] (any publisher)");
   return out;
 }
 
@@ -79,7 +114,7 @@ const char* clockModeName(ClockMode m) { return choiceName(m); }
 PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& style) {
   PlantNodeParams p;
   ParamReader r(tree, style);
-  readNodeRows(r, tree, &p);
+  readNodeRows(r, tree, &p, kConfigSections);
   for (const char* key : {"world_frame", "body_frame", "velocity_frame"}) {
     if (r.usable(key) && r.getString(key).empty()) r.fail(key, "must not be empty");
   }
@@ -110,7 +145,7 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   ControllerNodeParams p;
   ParamReader r(tree, style);
   // (~reconfigure/* is written by the dynamic_reconfigure server, never read)
-  readNodeRows(r, tree, &p, {"reconfigure"});
+  readNodeRows(r, tree, &p, {"plant", "controller", "scenario", "reconfigure"});
   p.accept_from = readCallerList(r, tree, "accept_from");
 
   std::vector<std::string> problems = r.problems();
@@ -141,6 +176,44 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   if (!problems.empty()) throw ConfigError(problems);
   p.defaults_used = r.defaultsUsed();
   appendProblems(&p.defaults_used, p.run.defaults_used);
+  return p;
+}
+
+BagRecorderParams readBagRecorderParams(const ParamValue& tree, const KeyStyle& style,
+                                        const std::vector<std::string>& message_types) {
+  BagRecorderParams p;
+  ParamReader r(tree, style);
+  readNodeRows(r, tree, &p, {});
+  p.topics = readTopicList(r, tree, "topics", "a non-empty list of topic names");
+  const auto why_not = [&](const std::string& type) {
+    return std::find(message_types.begin(), message_types.end(), type) != message_types.end()
+               ? std::string()
+               : "is not one of this package's messages or tf2_msgs/TFMessage (\"\" records any "
+                 "type)";
+  };
+  const std::string types_what =
+      "a list of " + std::to_string(p.topics.size()) + " type names, one per ~topics entry";
+  if (!readStringList(r, tree, "types", types_what, "a type name", why_not, &p.types)) {
+    r.noteDefault("types", "[] (every topic untyped)");
+  } else if (r.usable("types") && r.usable("topics") &&
+             tree.findPath("types")->list().size() != p.topics.size()) {
+    r.fail("types", "expected " + types_what + ", got " + tree.findPath("types")->describe());
+  }
+  if (p.output.empty() && p.output_prefix.empty())
+    r.fail("output", "set ~output or ~output_prefix");
+  if (!r.problems().empty()) throw ConfigError(r.problems());
+  p.defaults_used = r.defaultsUsed();
+  return p;
+}
+
+RunMonitorParams readRunMonitorParams(const ParamValue& tree, const KeyStyle& style) {
+  RunMonitorParams p;
+  ParamReader r(tree, style);
+  readNodeRows(r, tree, &p, {});
+  p.state_topics =
+      readTopicList(r, tree, "state_topics", "a non-empty list of PlantState topic names");
+  if (!r.problems().empty()) throw ConfigError(r.problems());
+  p.defaults_used = r.defaultsUsed();
   return p;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "preadaptive_mrac/ros/node_params.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
 namespace preadaptive_mrac {
@@ -71,26 +72,9 @@ void RunMonitor::check() {
 }
 
 std::unique_ptr<RunMonitor> makeRunMonitor(const NodeContext& ctx) {
-  XmlRpc::XmlRpcValue v;
-  std::vector<std::string> topics;
-  const std::string key = ctx.pnh().resolveName("state_topics");
-  bool ok = ctx.pnh().getParam("state_topics", v) &&
-            v.getType() == XmlRpc::XmlRpcValue::TypeArray && v.size() > 0;
-  if (ok) {
-    for (int i = 0; i < v.size(); ++i) {
-      if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
-        ok = false;
-        break;
-      }
-      topics.push_back(static_cast<std::string>(v[i]));
-    }
-  }
-  if (!ok) {
-    ctx.logConfigProblems({key + ": expected a non-empty list of PlantState topic names"});
-    ctx.end(kExitConfigError);
-    return nullptr;
-  }
-  return std::make_unique<RunMonitor>(ctx, topics);
+  RunMonitorParams p;
+  if (!readNodeParams(ctx, readRunMonitorParams, &p)) return nullptr;
+  return std::make_unique<RunMonitor>(ctx, p.state_topics);
 }
 
 void RunMonitor::finish() {

@@ -59,30 +59,44 @@ def generated_node_keys():
 
 
 def node_keys():
-    """Private parameters each node reads: for plant_sim_node and mrac_controller_node the
-    generated struct's keys when node_params.cpp reads it (readNodeRows) and the keys it reads
-    by hand; for the others, from their source."""
+    """Private parameters each node reads: for the C++ nodes the generated struct's keys when
+    node_params.cpp's reader reads it (readNodeRows) and the keys it reads by hand; for
+    viz_markers the table's rows when markers.py reads them through params_table."""
     keys = {}
     npc = read('src/ros/node_params.cpp')
-    rx = r'(?:r\.get\w+\(|readCallerList\(r, tree, )"(\w+)"'
+    rx = r'(?:r\.get\w+\(|read(?:CallerList|TopicList|StringList)\(r, tree, )"(\w+)"'
     generated = generated_node_keys()
     for node, function in (
         ('plant_sim_node', 'readPlantNodeParams'),
         ('mrac_controller_node', 'readControllerNodeParams'),
+        ('bag_recorder_node', 'readBagRecorderParams'),
+        ('run_monitor_node', 'readRunMonitorParams'),
     ):
         body = function_body(npc, function)
         keys[node] = set(re.findall(rx, body))
         if 'readNodeRows(r, tree, &p' in body:
             keys[node] |= generated[node]
-    rec = read('src/ros/bag_recorder.cpp')
-    keys['bag_recorder_node'] = set(re.findall(r'pnh\.(?:param<[^>]+>|getParam)\("(\w+)"', rec))
-    keys['run_monitor_node'] = set(
-        re.findall(r'pnh\(?\)?\.getParam\("(\w+)"', read('src/ros/run_monitor.cpp'))
-    )
-    keys['viz_markers'] = set(
-        re.findall(r"get_param\('~(\w+)'", read('src/preadaptive_mrac/viz/markers.py'))
-    )
+    markers = read('src/preadaptive_mrac/viz/markers.py')
+    keys['viz_markers'] = set(re.findall(r"get_param\('~(\w+)'", markers))
+    if "read_node_params(\n            'viz_markers'" in markers:
+        keys['viz_markers'] |= {r['key'] for r in params_table.node_rows('viz_markers')}
     return keys
+
+
+# A node's own read of one private key with the default written beside it (roscpp's
+# pnh.param/getParam/param::get, rospy's get_param('~key')): the key's default and range would
+# then be declared twice. Every node reads its whole private namespace once and takes the rest
+# from params/nodes.yaml (node_params.cpp's readers, params_table.read_node_params).
+HAND_READ = re.compile(
+    r'\.param\s*<|\bparam\s*\(\s*"|getParam\s*\(\s*"|param::get\s*\(\s*"'
+    r'|get_param\s*\(\s*[\'"]~\w'
+)
+HAND_READ_DIRS = ('src/ros', 'src/nodes', 'src/preadaptive_mrac/viz')
+
+
+def hand_reads(text):
+    """The lines of `text` that read one private key by hand (HAND_READ)."""
+    return [ln.strip() for ln in text.splitlines() if HAND_READ.search(ln)]
 
 
 def config_code_suffixes():
@@ -151,6 +165,29 @@ class TestParameterReference(unittest.TestCase):
             self.assertEqual(sorted(keys - documented), [], '%s: undocumented' % node)
             self.assertEqual(sorted(documented - keys), [], '%s: documented, never read' % node)
         self.assertEqual(sorted(set(self.by_node) - set(node_keys())), [], 'unknown node')
+
+    def test_no_node_reads_a_parameter_with_a_default_of_its_own(self):
+        found = []
+        for d in HAND_READ_DIRS:
+            for dirpath, _, files in os.walk(os.path.join(ROOT, d)):
+                for f in sorted(files):
+                    if f.endswith(('.cpp', '.hpp', '.py')):
+                        rel = os.path.relpath(os.path.join(dirpath, f), ROOT)
+                        found += ['%s: %s' % (rel, ln) for ln in hand_reads(read(rel))]
+        self.assertEqual(found, [], 'read by hand: declare the key in params/nodes.yaml')
+
+    def test_hand_reads_are_found(self):
+        planted = (
+            'pnh.param<int>("progress_every", p.progress_every, 100);\n'
+            '  ctx.pnh().getParam("state_topics", v);\n'
+            'ros::param::get("~rate", r);\n'
+            "        self.rate = float(rospy.get_param('~rate', 20.0))\n"
+            '    nh.param("x", x, 1.0);\n'
+        )
+        self.assertEqual(len(hand_reads(planted)), 5)
+        # the whole private namespace at once is how the nodes read
+        whole = "rospy.get_param('~', {})\nros::param::get(pnh_.getNamespace(), v)\n"
+        self.assertEqual(hand_reads(whole), [])
 
     def test_every_config_row_is_a_shipped_or_read_key(self):
         shipped = set()

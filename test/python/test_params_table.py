@@ -129,20 +129,28 @@ def holds(check, v):
 
 
 class TestNodeTable(unittest.TestCase):
-    """params/nodes.yaml's rows of the nodes with a generated struct: their defaults (the
-    generated members') are the ones the docs show and lie in their ranges."""
+    """params/nodes.yaml's rows of the nodes with a generated struct, and of viz_markers (read
+    through params_table.read_node_params): their defaults (the generated members', the
+    Python node's) are the ones the docs show and lie in their ranges."""
 
     def setUp(self):
         self.table = params_table.load('nodes')
-        self.rows = [
-            r for r in self.table['params'] if set(r['nodes']) & set(self.table['structs'])
-        ]
+        readers = set(self.table['structs']) | {'viz_markers'}
+        self.rows = [r for r in self.table['params'] if set(r['nodes']) & readers]
+        self.required = [r for r in self.rows if r.get('presence') == 'required']
 
-    def test_every_row_of_a_generated_node_is_optional_with_a_default(self):
-        self.assertGreaterEqual(len(self.rows), 30)
+    def test_every_row_has_a_presence_and_the_optional_ones_a_default(self):
+        self.assertGreaterEqual(len(self.rows), 45)
         for r in self.rows:
-            self.assertEqual(r.get('presence'), 'optional', r['key'])
-            self.assertIn('default', r, r['key'])
+            self.assertIn(r.get('presence'), ('optional', 'optional_unnoted', 'required'))
+            if r['presence'] != 'required':
+                self.assertIn('default', r, r['key'])
+        # a required key is a list read by hand (the generic reader has no required node key)
+        self.assertEqual(sorted(r['key'] for r in self.required), ['state_topics', 'topics'])
+        for r in self.required:
+            self.assertEqual(r.get('read'), 'custom', r['key'])
+            self.assertNotIn('default', r, r['key'])
+            self.assertEqual(r['default_doc'], '**required**', r['key'])
 
     def test_docs_show_the_default(self):
         def shown(v):
@@ -155,15 +163,51 @@ class TestNodeTable(unittest.TestCase):
             return params_table.number_text(v) if isinstance(v, float) else str(v)
 
         for r in self.rows:
+            if r in self.required:
+                continue
             first = r['default_doc'].split(' ')[0].strip('`')
             self.assertEqual(first, shown(r['default']), r['key'])
 
     def test_defaults_lie_in_their_range(self):
         for r in self.rows:
-            if 'check' in r:
+            if 'check' in r and r not in self.required:
                 self.assertTrue(holds(r['check'], r['default']), r['key'])
             if 'choices' in r:
                 self.assertIn(r['default'], r['choices'], r['key'])
+
+
+class TestReadNodeParams(unittest.TestCase):
+    """viz_markers' parameters through params_table.read_node_params: the rows' defaults, and
+    every problem at once naming the key (before, its defaults were written in markers.py)."""
+
+    def test_left_out_keys_take_the_rows_defaults(self):
+        values, problems = params_table.read_node_params('viz_markers', {}, '/viz/')
+        self.assertEqual(problems, [])
+        rows = params_table.node_rows('viz_markers')
+        self.assertEqual(values, {r['key']: r['default'] for r in rows})
+        self.assertEqual((values['rate'], values['history_points']), (20.0, 400))
+
+    def test_every_problem_at_once_naming_the_key(self):
+        given = {'rate': 0, 'history': 'long', 'history_points': 1, 'publish_tf': 'yes'}
+        given.update({'alpha_scale': float('nan'), 'body_frame': 'b'})
+        values, problems = params_table.read_node_params('viz_markers', given, '/viz/')
+        self.assertEqual(
+            problems,
+            [
+                '/viz/rate: must be > 0, got 0',
+                "/viz/history: expected a double, got 'long'",
+                '/viz/history_points: must be >= 2, got 1',
+                '/viz/alpha_scale: expected a finite number, got nan',
+                "/viz/publish_tf: expected a bool, got 'yes'",
+            ],
+        )
+        self.assertEqual(values['body_frame'], 'b')
+        # an int where a double belongs is a number (a launch <param> without a type)
+        values, problems = params_table.read_node_params('viz_markers', {'rate': 30}, '~')
+        self.assertEqual((values['rate'], problems), (30.0, []))
+        self.assertIsInstance(values['rate'], float)
+        _, problems = params_table.read_node_params('viz_markers', {'history_points': 4.0}, '~')
+        self.assertEqual(problems, ['~history_points: expected an int, got 4.0'])
 
 
 class TestModeNames(unittest.TestCase):

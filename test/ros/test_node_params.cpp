@@ -217,6 +217,17 @@ TEST(ControllerNodeParams, StaleKeysReadAndKnown) {
       problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
   EXPECT_TRUE(anyContains(probs, "/mrac_controller/stale_timeout")) << joined(probs);
   EXPECT_FALSE(anyContains(probs, "unknown parameter")) << joined(probs);
+  // The table's names and nothing else (the generated parser; core's hand-written twin,
+  // parseStalePolicy, is gone).
+  pm::StalePolicy sp = pm::StalePolicy::kZero;
+  EXPECT_TRUE(pm::parseChoice("baseline_hold", &sp));
+  EXPECT_EQ(sp, pm::StalePolicy::kBaselineHold);
+  EXPECT_FALSE(pm::parseChoice("hold", &sp));
+  EXPECT_STREQ(pm::choiceName(pm::StalePolicy::kZero), "zero");
+  tree.setPath("stale_policy", pm::ParamValue::makeString("hold"));
+  EXPECT_TRUE(anyContains(
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); }),
+      "/mrac_controller/stale_policy: expected one of baseline_hold, zero, got 'hold'"));
 }
 
 TEST(PlantNodeParams, CommandTimeoutReadAndChecked) {
@@ -242,39 +253,54 @@ pm::ParamValue nodeRowsOf(const std::string& node) {
   return out;
 }
 
+// The types a recorder may subscribe with (bag_recorder.cpp passes the message traits').
+const std::vector<std::string> kRecorderTypes = {"", "preadaptive_mrac/PlantState",
+                                                 "tf2_msgs/TFMessage"};
+
+// The least a recorder needs: one topic and a bag.
+pm::ParamValue recorderTree() {
+  pm::ParamValue t = pm::ParamValue::makeMap();
+  t.setPath("topics", pm::ParamValue::makeList({pm::ParamValue::makeString("plant/state")}));
+  t.setPath("output", pm::ParamValue::makeString("/tmp/x.bag"));
+  return t;
+}
+
+std::vector<std::string> nodeDefaults(const std::string& node, const pm::ParamValue& tree) {
+  if (node == "plant_sim_node")
+    return pm::ros1::readPlantNodeParams(tree, style("/n")).defaults_used;
+  if (node == "bag_recorder_node")
+    return pm::ros1::readBagRecorderParams(tree, style("/n"), kRecorderTypes).defaults_used;
+  return pm::ros1::readControllerNodeParams(tree, style("/n")).defaults_used;
+}
+
 std::vector<std::string> nodeProblems(const std::string& node, const pm::ParamValue& tree) {
-  return problemsOf([&] {
-    if (node == "plant_sim_node")
-      pm::ros1::readPlantNodeParams(tree, style("/n"));
-    else
-      pm::ros1::readControllerNodeParams(tree, style("/n"));
-  });
+  return problemsOf([&] { nodeDefaults(node, tree); });
 }
 
 TEST(NodeTable, DefaultsAndRangesAreTheTablesRows) {
   const std::map<std::string, std::vector<std::string>> configs = {
       {"plant_sim_node", {"plant/b747.yaml", "scenarios/scenario1.yaml"}},
-      {"mrac_controller_node", {"plant/b747.yaml", "controller/default.yaml"}}};
+      {"mrac_controller_node", {"plant/b747.yaml", "controller/default.yaml"}},
+      {"bag_recorder_node", {}}};
   int checked = 0;
   for (const auto& nc : configs) {
-    const pm::ParamValue base = loadConfig(nc.second);
+    const pm::ParamValue base = nc.second.empty() ? recorderTree() : loadConfig(nc.second);
     const pm::ParamValue rows = nodeRowsOf(nc.first);
-    ASSERT_GE(rows.list().size(), 14u) << nc.first;
-    std::vector<std::string> defaults;
-    if (nc.first == "plant_sim_node")
-      defaults = pm::ros1::readPlantNodeParams(base, style("/n")).defaults_used;
-    else
-      defaults = pm::ros1::readControllerNodeParams(base, style("/n")).defaults_used;
+    ASSERT_GE(rows.list().size(), 8u) << nc.first;
+    const std::vector<std::string> defaults = nodeDefaults(nc.first, base);
     for (const pm::ParamValue& row : rows.list()) {
       const std::string key = row.find("key")->asString();
+      // (lists read by hand; ~output, ~output_prefix: one of them is always left out)
+      const pm::ParamValue* read = row.find("read");
+      if (read != nullptr && read->asString() == "custom") continue;
+      if (row.find("presence")->asString() == "optional_unnoted") continue;
       const pm::ParamValue& def = *row.find("default");
       const std::string type = row.find("type")->asString();
       std::string shown = def.describe();
       if (type == "string") shown = "'" + def.asString() + "'";
       if (type == "double") shown = pm::formatNumber(def.asDouble());
-      if (key != "accept_from")
-        EXPECT_TRUE(anyContains(defaults, "/n/" + key + " = " + shown + ""))
-            << nc.first << " " << key << " " << joined(defaults);
+      EXPECT_TRUE(anyContains(defaults, "/n/" + key + " = " + shown + ""))
+          << nc.first << " " << key << " " << joined(defaults);
       const pm::ParamValue* check = row.find("check");
       if (check == nullptr) continue;
       for (const char* end : {"min", "max"}) {
@@ -302,7 +328,87 @@ TEST(NodeTable, DefaultsAndRangesAreTheTablesRows) {
       }
     }
   }
-  EXPECT_GE(checked, 30);
+  EXPECT_GE(checked, 36);
+}
+
+// bag_recorder_node (issue 21): its scalars from the table, the lists by hand, every problem at
+// once naming its key; before, a negative ~split_size_mb was refused but a typo (~chunk_size)
+// or a string where a number belongs passed silently with the default.
+TEST(BagRecorderParams, DefaultsAndListsRead) {
+  pm::ParamValue t = recorderTree();
+  t.setPath("types", pm::ParamValue::makeList({pm::ParamValue::makeString("tf2_msgs/TFMessage")}));
+  const auto p = pm::ros1::readBagRecorderParams(t, style("/rec"), kRecorderTypes);
+  EXPECT_EQ(p.topics, std::vector<std::string>{"plant/state"});
+  EXPECT_EQ(p.types, std::vector<std::string>{"tf2_msgs/TFMessage"});
+  EXPECT_EQ(p.output, "/tmp/x.bag");
+  EXPECT_EQ(p.output_prefix, "");
+  EXPECT_EQ(p.progress_every, 100);
+  EXPECT_EQ(p.chunk_size_kb, 768);
+  EXPECT_EQ(pm::ros1::defaultsLine(p.defaults_used),
+            "optional keys filled with defaults: /rec/progress_every = 100, "
+            "/rec/split_size_mb = 0, /rec/split_duration = 0, /rec/chunk_size_kb = 768");
+}
+
+TEST(BagRecorderParams, EveryProblemAtOnceNamingTheKey) {
+  pm::ParamValue t = pm::ParamValue::makeMap();
+  t.setPath("split_size_mb", pm::ParamValue::makeDouble(-1.0));
+  t.setPath("split_duration", pm::ParamValue::makeDouble(2e7));
+  t.setPath("chunk_size_kb", pm::ParamValue::makeInt(0));
+  t.setPath("progress_every", pm::ParamValue::makeString("ten"));
+  t.setPath("chunk_size", pm::ParamValue::makeInt(16));
+  t.setPath("types", pm::ParamValue::makeList({pm::ParamValue::makeString("std_msgs/String")}));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readBagRecorderParams(t, style("/rec"), kRecorderTypes); });
+  for (const char* want : {"/rec/split_size_mb: must be", "/rec/split_duration: must be",
+                           "/rec/chunk_size_kb: must be", "/rec/progress_every: expected",
+                           "/rec/chunk_size: unknown parameter",
+                           "/rec/topics: missing: expected a non-empty list of topic names",
+                           "/rec/types/0: 'std_msgs/String' is not one of this package's messages",
+                           "/rec/output: set ~output or ~output_prefix"})
+    EXPECT_TRUE(anyContains(probs, want)) << want << "\n" << joined(probs);
+  EXPECT_EQ(probs.size(), 8u) << joined(probs);
+
+  pm::ParamValue u = recorderTree();
+  u.setPath("topics", pm::ParamValue::makeList(
+                          {pm::ParamValue::makeString("a"), pm::ParamValue::makeInt(3)}));
+  u.setPath("types", pm::ParamValue::makeList({pm::ParamValue::makeString("")}));
+  const auto p2 =
+      problemsOf([&] { pm::ros1::readBagRecorderParams(u, style("/rec"), kRecorderTypes); });
+  EXPECT_TRUE(anyContains(p2, "/rec/topics/1: expected a topic name (string), got int 3"))
+      << joined(p2);
+  u.setPath("topics", pm::ParamValue::makeList({}));
+  EXPECT_TRUE(anyContains(
+      problemsOf([&] { pm::ros1::readBagRecorderParams(u, style("/rec"), kRecorderTypes); }),
+      "/rec/topics: expected a non-empty list of topic names, got []"));
+  u = recorderTree();
+  u.setPath("types", pm::ParamValue::makeList(
+                         {pm::ParamValue::makeString(""), pm::ParamValue::makeString("")}));
+  EXPECT_TRUE(anyContains(
+      problemsOf([&] { pm::ros1::readBagRecorderParams(u, style("/rec"), kRecorderTypes); }),
+      "/rec/types: expected a list of 1 type names, one per ~topics entry"));
+}
+
+// run_monitor_node: ~state_topics, and nothing else (a typo is refused, it was ignored).
+TEST(RunMonitorParams, StateTopicsRequiredAndUnknownKeysRefused) {
+  pm::ParamValue t = pm::ParamValue::makeMap();
+  t.setPath("state_topics",
+            pm::ParamValue::makeList({pm::ParamValue::makeString("rac/plant/state"),
+                                      pm::ParamValue::makeString("pa/plant/state")}));
+  const auto p = pm::ros1::readRunMonitorParams(t, style("/mon"));
+  EXPECT_EQ(p.state_topics, (std::vector<std::string>{"rac/plant/state", "pa/plant/state"}));
+  EXPECT_TRUE(p.defaults_used.empty());
+  t.setPath("state_topic", pm::ParamValue::makeString("x"));
+  t.setPath("state_topics", pm::ParamValue::makeString("rac/plant/state"));
+  const auto probs = problemsOf([&] { pm::ros1::readRunMonitorParams(t, style("/mon")); });
+  EXPECT_TRUE(anyContains(probs, "/mon/state_topic: unknown parameter")) << joined(probs);
+  EXPECT_TRUE(anyContains(probs,
+                          "/mon/state_topics: expected a non-empty list of PlantState topic "
+                          "names, got string"))
+      << joined(probs);
+  EXPECT_EQ(probs.size(), 2u) << joined(probs);
+  EXPECT_TRUE(anyContains(
+      problemsOf([&] { pm::ros1::readRunMonitorParams(pm::ParamValue::makeMap(), style("/m")); }),
+      "/m/state_topics: missing"));
 }
 
 // An int beyond 32 bits is refused, not wrapped into the range (2^32 + 5 would read as 5).

@@ -9,13 +9,13 @@
 
 namespace preadaptive_mrac {
 
-/// \brief What a stale controller sends instead of its adaptive command.
+/// \brief What a stale controller sends instead of its adaptive command. Its names, parser and
+/// reading are generated from params/nodes.yaml's ~stale_policy row (parseChoice, choiceName in
+/// preadaptive_mrac/params/nodes_params.hpp, which names this header as its `enum_header`).
 enum class StalePolicy {
   kBaselineHold,  ///< u = -K x_last: the LQR baseline from the last valid state
   kZero,          ///< u = 0 (trim)
 };
-/// \brief Parse "baseline_hold" | "zero".
-bool parseStalePolicy(const std::string& s, StalePolicy* out);
 
 /// \brief Validates samples of a fixed-size vector and tracks their age.
 ///

@@ -18,29 +18,10 @@
 
 #include "preadaptive_mrac/PlantState.h"
 #include "preadaptive_mrac/ros/node_context.hpp"
+#include "preadaptive_mrac/ros/node_params.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
-
-/// \brief Parameters of bag_recorder_node (private namespace).
-struct BagRecorderParams {
-  std::vector<std::string> topics;  ///< ~topics: names, resolved in the node's namespace
-  /// ~types: optional, one per topic: the message type ("preadaptive_mrac/PlantState", ...,
-  /// "tf2_msgs/TFMessage") to subscribe with that type, or "" for any type. A typed
-  /// subscriber in the same process (nodelet manager) gets the publisher's pointer; an untyped
-  /// one (topic_tools::ShapeShifter) makes the publishing thread serialise every message.
-  std::vector<std::string> types;
-  std::string output;         ///< ~output: bag path ("" = use ~output_prefix)
-  std::string output_prefix;  ///< ~output_prefix: <prefix>_YYYY-MM-DD-HH-MM-SS.bag
-  int progress_every = 100;   ///< ~progress_every: publish ~progress every N states
-  /// ~split_size_mb: start a new bag when the current one reaches this size [MB]; 0 = never.
-  double split_size_mb = 0.0;
-  /// ~split_duration: start a new bag after this wall time [s] of recording; 0 = never.
-  double split_duration = 0.0;
-  /// ~chunk_size_kb: rosbag chunk threshold [KB]; a chunk is on disk once full, so after a
-  /// crash at most about this much (plus the stdio buffer) of the open bag is lost.
-  int chunk_size_kb = 768;
-};
 
 /// \brief Subscribes to every topic of any type and writes each message into one bag, at the
 /// time of its header stamp when its type starts with a std_msgs/Header (every message of
@@ -118,8 +99,9 @@ class BagRecorder {
   std::vector<std::uint8_t> buf_;
 };
 
-/// \brief Read ~ (every problem at once: ROS_FATAL each, ctx.end(kExitConfigError), nullptr)
-/// and open the bag (failure: ctx.end(kExitRuntimeError), nullptr). Node and nodelet.
+/// \brief Read ~ (readBagRecorderParams: every problem at once, ROS_FATAL each,
+/// ctx.end(kExitConfigError), nullptr; else the start-up line of defaults) and open the bag
+/// (failure: ctx.end(kExitRuntimeError), nullptr). Node and nodelet.
 std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx);
 
 /// \brief main() after ros::init(): makeBagRecorder, spin until shutdown, close the bag.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file node_params.hpp
-/// \brief Parameters of the two ROS nodes, read from a ParamValue tree (the node's private
+/// \brief Parameters of the ROS nodes, read from a ParamValue tree (the node's private
 /// namespace) with every problem collected at once. ROS-free, so it is tested without a master.
 
 #include <cstdint>
@@ -40,6 +40,20 @@ struct ControllerNodeParams : MracControllerNodeParams {
   std::vector<std::string> defaults_used;
 };
 
+/// \brief Everything bag_recorder_node reads from `~`: its rows of params/nodes.yaml
+/// (BagRecorderNodeParams, generated: ~output, ~progress_every, the split sizes, ...) and the
+/// lists ~topics and ~types, read by hand.
+struct BagRecorderParams : BagRecorderNodeParams {
+  /// Every optional key left out and filled with its default.
+  std::vector<std::string> defaults_used;
+};
+
+/// \brief Everything run_monitor_node reads from `~`: ~state_topics (RunMonitorNodeParams,
+/// generated; the list read by hand).
+struct RunMonitorParams : RunMonitorNodeParams {
+  std::vector<std::string> defaults_used;  ///< (none: its one key is required)
+};
+
 /// \brief One start-up line naming every optional key filled with its default:
 /// "optional keys filled with defaults: k1 = v1, k2 = v2" (or "...: none").
 std::string defaultsLine(const std::vector<std::string>& defaults_used);
@@ -52,6 +66,17 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
 /// check of readRunConfig (A, B not stabilisable etc.) and a readable ~weights_in of the
 /// right size. Throws ConfigError listing every problem.
 ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyStyle& style);
+
+/// \brief Read and validate bag_recorder_node's private parameters: the table's scalars,
+/// ~topics (required, non-empty), ~types (optional: one per topic, each one of
+/// `message_types`, the types the recorder can subscribe with) and ~output or ~output_prefix.
+/// Throws ConfigError listing every problem.
+BagRecorderParams readBagRecorderParams(const ParamValue& tree, const KeyStyle& style,
+                                        const std::vector<std::string>& message_types);
+
+/// \brief Read and validate run_monitor_node's private parameters (~state_topics, required,
+/// non-empty). Throws ConfigError listing every problem.
+RunMonitorParams readRunMonitorParams(const ParamValue& tree, const KeyStyle& style);
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

@@ -54,8 +54,8 @@ class RunMonitor {
 /// ".../state" -> ".../done", any other name + "/done".
 std::string doneTopic(const std::string& state_topic);
 
-/// \brief Read ~state_topics (list of strings, required; refused: ctx.end(kExitConfigError),
-/// nullptr) and start watching. Node and nodelet.
+/// \brief Read ~state_topics (readRunMonitorParams: a list of strings, required; refused:
+/// ctx.end(kExitConfigError), nullptr) and start watching. Node and nodelet.
 std::unique_ptr<RunMonitor> makeRunMonitor(const NodeContext& ctx);
 
 /// \brief main() after ros::init(): makeRunMonitor, spin until it ends the node.

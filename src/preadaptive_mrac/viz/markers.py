@@ -10,6 +10,7 @@ import rospy
 from geometry_msgs.msg import Point, Quaternion, TransformStamped, Vector3
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
+from .. import params_table
 from .dynamic_msgs import DynamicSubscriber, EVENT_NAMES, tf_message_class
 
 
@@ -30,24 +31,21 @@ def _t_of(msg):
 
 class VizMarkers:
     def __init__(self):
-        self.world = rospy.get_param('~world_frame', 'world')
-        self.body = rospy.get_param('~body_frame', 'body')
-        self.velocity = rospy.get_param('~velocity_frame', 'velocity')
-        self.rate = float(rospy.get_param('~rate', 20.0))
-        self.history = float(rospy.get_param('~history', 10.0))
-        self.history_points = int(rospy.get_param('~history_points', 400))
-        self.alpha_scale = float(rospy.get_param('~alpha_scale', 20.0))
-        self.publish_tf = bool(rospy.get_param('~publish_tf', False))
-        problems = []
-        if not self.rate > 0.0:
-            problems.append('~rate must be > 0 (got %r)' % self.rate)
-        if not self.history > 0.0:
-            problems.append('~history must be > 0 (got %r)' % self.history)
-        if self.history_points < 2:
-            problems.append('~history_points must be >= 2 (got %r)' % self.history_points)
-        for name in ('world', 'body', 'velocity'):
-            if not getattr(self, name):
-                problems.append('~%s_frame must not be empty' % name)
+        # Defaults and ranges from the one table (params/nodes.yaml's viz_markers rows).
+        v, problems = params_table.read_node_params(
+            'viz_markers', rospy.get_param('~', {}), rospy.resolve_name('~')
+        )
+        self.world, self.body, self.velocity = (
+            v['world_frame'],
+            v['body_frame'],
+            v['velocity_frame'],
+        )
+        self.rate, self.history, self.history_points = v['rate'], v['history'], v['history_points']
+        self.alpha_scale, self.publish_tf = v['alpha_scale'], v['publish_tf']
+        # (the row's `non-empty`: no check of the table can say it)
+        for key in ('world_frame', 'body_frame', 'velocity_frame'):
+            if v[key] == '':
+                problems.append('%s%s: must not be empty' % (rospy.resolve_name('~'), key))
         if problems:
             for p in problems:
                 rospy.logfatal('viz_markers: %s' % p)
