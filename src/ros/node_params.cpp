@@ -19,7 +19,7 @@ namespace {
 /// controller, scenario) as `extra`, so that one layered YAML can be loaded into either.
 template <class P>
 void readNodeRows(ParamReader& r, const ParamValue& tree, P* p,
-                  std::initializer_list<const char*> extra) {
+                  const std::vector<std::string>& extra) {
   readScalars(r, "", p);
   checkRanges(r, "", *p);
   std::set<std::string> known(extra.begin(), extra.end());
@@ -30,7 +30,13 @@ void readNodeRows(ParamReader& r, const ParamValue& tree, P* p,
   }
 }
 
-const std::initializer_list<const char*> kConfigSections = {"plant", "controller", "scenario"};
+/// The config sections (plant, controller, scenario) the plant and controller nodes allow, and
+/// `more`.
+std::vector<std::string> configSectionsAnd(std::initializer_list<const char*> more = {}) {
+  std::vector<std::string> keys = {"plant", "controller", "scenario"};
+  keys.insert(keys.end(), more.begin(), more.end());
+  return keys;
+}
 
 /// A list of strings (a row read `custom`: no table row can say what each entry must be). False
 /// when `key` is absent. Given, it must be a list (else a problem: "expected <list_what>, got
@@ -114,7 +120,7 @@ const char* clockModeName(ClockMode m) { return choiceName(m); }
 PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& style) {
   PlantNodeParams p;
   ParamReader r(tree, style);
-  readNodeRows(r, tree, &p, kConfigSections);
+  readNodeRows(r, tree, &p, configSectionsAnd());
   for (const char* key : {"world_frame", "body_frame", "velocity_frame"}) {
     if (r.usable(key) && r.getString(key).empty()) r.fail(key, "must not be empty");
   }
@@ -145,7 +151,7 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   ControllerNodeParams p;
   ParamReader r(tree, style);
   // (~reconfigure/* is written by the dynamic_reconfigure server, never read)
-  readNodeRows(r, tree, &p, {"plant", "controller", "scenario", "reconfigure"});
+  readNodeRows(r, tree, &p, configSectionsAnd({"reconfigure"}));
   p.accept_from = readCallerList(r, tree, "accept_from");
 
   std::vector<std::string> problems = r.problems();
