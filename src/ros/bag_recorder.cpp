@@ -192,10 +192,20 @@ void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
                          const PlantState* state) {
   // A bag cannot hold time 0 (simulation time before the first /clock).
   if (t < ros::TIME_MIN) t = ros::TIME_MIN;
+  if (state != nullptr) {
+    // A lockstep plant's re-sent state (the same step and stamp again): already in the bag.
+    const auto last = last_state_.find(topic);
+    if (last != last_state_.end() && last->second.first == state->step &&
+        last->second.second == state->header.stamp) {
+      ++repeats_[topic];
+      return;
+    }
+  }
   try {
     bag_.write(topic, t, msg, connection_header);
     ++counts_[topic];
     if (state != nullptr) {
+      last_state_[topic] = {state->step, state->header.stamp};
       bool& done = state_done_[topic];
       done = done || (state->total_steps > 0 && state->step + 1 >= state->total_steps);
       reportProgress(topic, *state);
@@ -260,6 +270,9 @@ void BagRecorder::finish() {
   closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
+  std::string repeats;
+  for (const auto& kv : repeats_) repeats += " " + kv.first + "=" + std::to_string(kv.second);
+  if (!repeats.empty()) summary += "; re-sent states not written again:" + repeats;
   ctx_.printFinal(
       "closed " + path_ +
       (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +

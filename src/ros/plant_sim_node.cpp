@@ -384,11 +384,13 @@ int PlantSimNode::runLockstep() {
       }
       if (now >= resend_at) {
         // The state was lost, or reached the controller before it subscribed (an extra
-        // subscriber can make the start-up count look complete). It ignores repeats.
+        // subscriber can make the start-up count look complete). The same message again, and
+        // only the state (nothing waits on the truth or tf): the controller ignores a repeat
+        // and the recorder does not write it twice.
         ROS_WARN("no command for step %llu after %.3f s: publishing its state again",
                  static_cast<unsigned long long>(k), params_.resend_interval);
         ++resent_;
-        publishSample(stamp);
+        state_pub_.publish(last_state_);
         resend_at = now + params_.resend_interval;
       }
       // Blocks until a callback is queued (or the bounded wait ends): no polling delay.

@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "preadaptive_mrac/PlantState.h"
@@ -33,6 +34,11 @@ namespace ros1 {
 /// waits on it instead of outrunning the recorder. Likewise for each PlantTruth,
 /// ElevatorCommand and AdaptationStatus topic (their step; last: the states' total_steps), so
 /// a reader knows when those, which arrive on connections of their own, are in the bag too.
+///
+/// A PlantState that repeats the last one written on its topic (same step, same stamp: a
+/// lockstep plant re-sends its state when the controller has not answered within
+/// ~resend_interval) is not written again: the bag holds each step once. Such repeats are
+/// counted and named in the closing line.
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
@@ -95,7 +101,10 @@ class BagRecorder {
   /// renamed <name>.incomplete.bag, so it does not pass for a run (a bag of no message at all
   /// is removed).
   std::map<std::string, bool> state_done_;
-  std::map<std::string, bool> has_header_;  ///< by datatype
+  /// The step and stamp of the last PlantState written per topic (a repeat is not written).
+  std::map<std::string, std::pair<std::uint64_t, ros::Time>> last_state_;
+  std::map<std::string, std::uint64_t> repeats_;  ///< PlantState repeats not written, per topic
+  std::map<std::string, bool> has_header_;        ///< by datatype
   std::vector<std::uint8_t> buf_;
 };
 
