@@ -139,15 +139,19 @@ void BagRecorder::callback(const std::string& topic,
     std::memcpy(&nsec, buf_.data() + 8, 4);
     t = ros::Time(sec, nsec);
   }
-  const PlantState::ConstPtr st = msg.getDataType() == ros::message_traits::datatype<PlantState>()
+  const std::string& type = msg.getDataType();
+  const PlantState::ConstPtr st = type == ros::message_traits::datatype<PlantState>()
                                       ? msg.instantiate<PlantState>()
                                       : PlantState::ConstPtr();
+  if (st && isRepeat(topic, ev.getPublisherName(), st->step, st->header.stamp)) return;
+  const ElevatorCommand::ConstPtr cmd = type == ros::message_traits::datatype<ElevatorCommand>()
+                                            ? msg.instantiate<ElevatorCommand>()
+                                            : ElevatorCommand::ConstPtr();
+  if (cmd && isRepeat(topic, ev.getPublisherName(), cmd->step, cmd->header.stamp)) return;
   record(topic, t, *ev.getConstMessage(), ev.getConnectionHeaderPtr(), st.get());
   // The stepped topics of typedCallback (their step is only known deserialized).
-  const std::string& type = msg.getDataType();
-  if (type == ros::message_traits::datatype<ElevatorCommand>()) {
-    const auto m = msg.instantiate<ElevatorCommand>();
-    reportStepProgress(topic, m->header.stamp, m->step);
+  if (cmd) {
+    reportStepProgress(topic, cmd->header.stamp, cmd->step);
   } else if (type == ros::message_traits::datatype<AdaptationStatus>()) {
     const auto m = msg.instantiate<AdaptationStatus>();
     reportStepProgress(topic, m->header.stamp, m->step);
@@ -177,6 +181,8 @@ void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEven
   if constexpr (std::is_same<M, tf2_msgs::TFMessage>::value)
     if (!msg.transforms.empty()) t = msg.transforms.front().header.stamp;
   if constexpr (std::is_same<M, PlantState>::value) state = &msg;
+  if constexpr (std::is_same<M, PlantState>::value || std::is_same<M, ElevatorCommand>::value)
+    if (isRepeat(topic, ev.getPublisherName(), msg.step, msg.header.stamp)) return;
   record(topic, t, msg, ev.getConnectionHeaderPtr(), state);
   // The controller's and the truth's messages come on connections of their own and can be
   // far behind the states (measured under load: every state written, 25481 of 60000
@@ -186,26 +192,30 @@ void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEven
     reportStepProgress(topic, msg.header.stamp, msg.step);
 }
 
+bool BagRecorder::isRepeat(const std::string& topic, const std::string& publisher,
+                           std::uint64_t step, const ros::Time& stamp) {
+  // Per publisher: another node's message of the same step (a stray publisher) is not a
+  // repeat, and is recorded.
+  const std::pair<std::uint64_t, ros::Time> key(step, stamp);
+  auto& last = last_written_[std::make_pair(topic, publisher)];
+  if (last && *last == key) {
+    ++repeats_[topic];
+    return true;
+  }
+  last = key;
+  return false;
+}
+
 template <class M>
 void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
                          const boost::shared_ptr<ros::M_string>& connection_header,
                          const PlantState* state) {
   // A bag cannot hold time 0 (simulation time before the first /clock).
   if (t < ros::TIME_MIN) t = ros::TIME_MIN;
-  if (state != nullptr) {
-    // A lockstep plant's re-sent state (the same step and stamp again): already in the bag.
-    const auto last = last_state_.find(topic);
-    if (last != last_state_.end() && last->second.first == state->step &&
-        last->second.second == state->header.stamp) {
-      ++repeats_[topic];
-      return;
-    }
-  }
   try {
     bag_.write(topic, t, msg, connection_header);
     ++counts_[topic];
     if (state != nullptr) {
-      last_state_[topic] = {state->step, state->header.stamp};
       bool& done = state_done_[topic];
       done = done || (state->total_steps > 0 && state->step + 1 >= state->total_steps);
       reportProgress(topic, *state);
@@ -272,7 +282,7 @@ void BagRecorder::finish() {
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
   std::string repeats;
   for (const auto& kv : repeats_) repeats += " " + kv.first + "=" + std::to_string(kv.second);
-  if (!repeats.empty()) summary += "; re-sent states not written again:" + repeats;
+  if (!repeats.empty()) summary += "; repeats not written again:" + repeats;
   ctx_.printFinal(
       "closed " + path_ +
       (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +

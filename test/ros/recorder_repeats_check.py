@@ -3,9 +3,10 @@
 controller: it answers every state, except steps HELD, which it leaves unanswered until the
 plant has published them a second time (after ~resend_interval); every other delivery is
 answered, as the controller answers a repeat. Then it stops the recorder
-(SIGINT) and reads the bag: plant/state and plant/truth hold every step exactly once, and
-the bag is complete (not .incomplete.bag). Without the recorder's de-duplication, each held
-step would be in the bag twice."""
+(SIGINT) and reads the bag: plant/state, plant/truth and controller/elevator_cmd hold every
+step exactly once, and the bag is complete (not .incomplete.bag). A held step's command is
+published twice (the controller answers a re-sent state again). Without the recorder's
+de-duplication, each held step would be in the bag twice."""
 import collections
 import os
 import signal
@@ -25,6 +26,7 @@ from preadaptive_mrac.msg import ElevatorCommand, PlantState, RecorderProgress
 
 PKG = "preadaptive_mrac"
 HELD = (0, 7, 150, 151)  # step 0 and two neighbours: the first, an early and back-to-back
+TOPICS = ("/plant/state", "/plant/truth", "/controller/elevator_cmd")
 
 
 class RecorderRepeatsTest(unittest.TestCase):
@@ -51,7 +53,10 @@ class RecorderRepeatsTest(unittest.TestCase):
             c.step = msg.step
             c.t = msg.t
             c.u = 0.0
-            pub.publish(c)
+            # A held step is answered twice (as the controller answers a re-sent state whose
+            # first answer it believes lost): the second is the same command again.
+            for _ in range(2 if msg.step in HELD else 1):
+                pub.publish(c)
 
         def on_progress(m):
             with lock:
@@ -63,7 +68,10 @@ class RecorderRepeatsTest(unittest.TestCase):
         def recorded_to_end():
             with lock:
                 n = total["n"]
-                return n > 0 and all(progress.get(t, -1) >= n - 1 for t in ("/plant/state",))
+                return n > 0 and all(
+                    progress.get(t, -1) >= n - 1
+                    for t in ("/plant/state", "/controller/elevator_cmd")
+                )
 
         wait_for(recorded_to_end, 90.0, "the recorder to write the plant's last state")
         with lock:
@@ -88,9 +96,9 @@ class RecorderRepeatsTest(unittest.TestCase):
         self.assertTrue(os.path.exists(bag), "the recorder left %s" % bag)
         steps = collections.defaultdict(list)
         with rosbag.Bag(bag) as b:
-            for topic, m, _ in b.read_messages(topics=["/plant/state", "/plant/truth"]):
+            for topic, m, _ in b.read_messages(topics=TOPICS):
                 steps[topic].append(m.step)
-        for topic in ("/plant/state", "/plant/truth"):
+        for topic in TOPICS:
             self.assertEqual(
                 steps[topic],
                 list(range(n)),
@@ -102,8 +110,7 @@ class RecorderRepeatsTest(unittest.TestCase):
                 ),
             )
         sys.stderr.write(
-            "held %s; bag: %d states, %d truths\n"
-            % (HELD, len(steps["/plant/state"]), len(steps["/plant/truth"]))
+            "held %s; bag: %s\n" % (HELD, ", ".join("%s %d" % (t, len(steps[t])) for t in TOPICS))
         )
 
 

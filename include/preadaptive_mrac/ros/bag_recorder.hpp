@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,10 +36,11 @@ namespace ros1 {
 /// ElevatorCommand and AdaptationStatus topic (their step; last: the states' total_steps), so
 /// a reader knows when those, which arrive on connections of their own, are in the bag too.
 ///
-/// A PlantState that repeats the last one written on its topic (same step, same stamp: a
-/// lockstep plant re-sends its state when the controller has not answered within
-/// ~resend_interval) is not written again: the bag holds each step once. Such repeats are
-/// counted and named in the closing line.
+/// A PlantState or ElevatorCommand that repeats the last one written on its topic (same
+/// step, same stamp: a lockstep plant re-sends its state when the controller has not answered
+/// within ~resend_interval, and the controller answers the repeat with its command again) is
+/// not written again: the bag holds each step once. Such repeats are counted and named in the
+/// closing line.
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
@@ -67,6 +69,10 @@ class BagRecorder {
   template <class M>
   void record(const std::string& topic, ros::Time t, const M& msg,
               const boost::shared_ptr<ros::M_string>& connection_header, const PlantState* state);
+  /// \brief Whether (step, stamp) is the last one `publisher` had written on `topic` (then
+  /// counted in repeats_, and the message is not to be written); else remembered as the last.
+  bool isRepeat(const std::string& topic, const std::string& publisher, std::uint64_t step,
+                const ros::Time& stamp);
   void reportProgress(const std::string& topic, const PlantState& st);
   /// \brief Progress of a stepped topic that is not a PlantState (every ~progress_every steps
   /// and at the states' last step).
@@ -101,9 +107,11 @@ class BagRecorder {
   /// renamed <name>.incomplete.bag, so it does not pass for a run (a bag of no message at all
   /// is removed).
   std::map<std::string, bool> state_done_;
-  /// The step and stamp of the last PlantState written per topic (a repeat is not written).
-  std::map<std::string, std::pair<std::uint64_t, ros::Time>> last_state_;
-  std::map<std::string, std::uint64_t> repeats_;  ///< PlantState repeats not written, per topic
+  /// The step and stamp of the last PlantState or ElevatorCommand written, per topic and
+  /// publisher.
+  std::map<std::pair<std::string, std::string>, std::optional<std::pair<std::uint64_t, ros::Time>>>
+      last_written_;
+  std::map<std::string, std::uint64_t> repeats_;  ///< repeats not written, per topic
   std::map<std::string, bool> has_header_;        ///< by datatype
   std::vector<std::uint8_t> buf_;
 };
