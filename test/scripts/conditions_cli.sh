@@ -15,10 +15,8 @@ for t in preadapt_sim preadapt_sweep preadapt_family preadapt_margins; do
 done
 W=$(mktemp -d "${TMPDIR:-/tmp}/conditions_cli.XXXXXX")
 trap 'rm -rf "$W"' EXIT
-PASS=0
-FAIL=0
-ok() { echo "PASS: $*"; PASS=$((PASS + 1)); }
-bad() { echo "FAIL: $*"; FAIL=$((FAIL + 1)); }
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 # rac's delay margin at the default gamma: 1139 samples hold the bound, 1140 do not
 # (docs/conditions.md); bisection to 4 ms brackets it in [1.136, 1.140] s.
@@ -110,5 +108,4 @@ PY
 [ $? = 2 ] && grep -q "plant.actuator.delay" "$W/err" && ok "family --delay -1 refused naming the key" ||
   bad "family --delay -1: $(cat "$W/err")"
 
-echo "conditions_cli: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ]
+finish "conditions_cli"

@@ -12,10 +12,8 @@ BIN=$BUILD/devel/lib/preadaptive_mrac
 [ -x "$BIN/preadapt_family" ] || { echo "SKIPPED: family_ranges: preadapt_family not built"; exit 77; }
 W=$(mktemp -d "${TMPDIR:-/tmp}/family_ranges.XXXXXX")
 trap 'rm -rf "$W"' EXIT
-PASS=0
-FAIL=0
-ok() { echo "PASS: $*"; PASS=$((PASS + 1)); }
-bad() { echo "FAIL: $*"; FAIL=$((FAIL + 1)); }
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 RANGES=(--delay 0:0.04 --time-constant 0.02:0.08 --turbulence 0.5:2 --effectiveness 0.4:1.0)
 for d in a b; do
@@ -72,5 +70,4 @@ refused "--turbulence: expected a finite number" --turbulence 0.5:2:3
 refused "--effectiveness: both ends must be in (0, 2\]" --effectiveness 0:1
 refused "--effectiveness: both ends must be in (0, 2\]" --effectiveness 0.5:2.5
 
-echo "family_ranges: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ]
+finish "family_ranges"

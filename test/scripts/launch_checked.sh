@@ -19,8 +19,8 @@ FAKE
 chmod +x "$W/bin/roslaunch"
 export PATH="$W/bin:$PATH"
 E=$'\e'
-PASS=0
-FAIL=0
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 # expect NAME WANT_RC PATTERN_ON_STDERR|"" [launch_checked options...]
 expect() {
@@ -29,16 +29,15 @@ expect() {
   "$CHECKED" --log "$W/out.log" --quiet "$@" -- fake.launch >"$W/stdout" 2>"$W/stderr"
   rc=$?
   if [ "$rc" != "$want" ]; then
-    echo "FAIL: $name: exit code $rc, expected $want"; sed 's/^/    /' "$W/stderr"; FAIL=$((FAIL + 1)); return
+    bad "$name: exit code $rc, expected $want"; sed 's/^/    /' "$W/stderr"; return
   fi
   if [ -n "$pattern" ] && ! grep -qE -- "$pattern" "$W/stderr"; then
-    echo "FAIL: $name: stderr lacks /$pattern/"; sed 's/^/    /' "$W/stderr"; FAIL=$((FAIL + 1)); return
+    bad "$name: stderr lacks /$pattern/"; sed 's/^/    /' "$W/stderr"; return
   fi
   if [ "$want" = 0 ] && [ -s "$W/stderr" ]; then
-    echo "FAIL: $name: stderr not empty on success"; sed 's/^/    /' "$W/stderr"; FAIL=$((FAIL + 1)); return
+    bad "$name: stderr not empty on success"; sed 's/^/    /' "$W/stderr"; return
   fi
-  echo "PASS: $name"
-  PASS=$((PASS + 1))
+  ok "$name"
 }
 
 L=$W/logs/run
@@ -126,9 +125,9 @@ disown "$LEFTOVER"
 FAKE_LOG=$W/leftover.log FAKE_RC=1 expect "roslaunch leaves its master behind: stopped" 2 \
   "left 1 process\(es\) of its run behind \(pids $LEFTOVER\): stopped"
 if kill -0 "$LEFTOVER" 2>/dev/null; then
-  echo "FAIL: the leftover process $LEFTOVER is still running"; FAIL=$((FAIL + 1)); kill "$LEFTOVER"
+  bad "the leftover process $LEFTOVER is still running"; kill "$LEFTOVER"
 else
-  echo "PASS: the leftover process is gone"; PASS=$((PASS + 1))
+  ok "the leftover process is gone"
 fi
 # A roslaunch that used a master it did not start leaves that master's processes alone.
 python3 -c 'import time; time.sleep(120)' "__log:=$W/logs/$RUN/master.log" &
@@ -137,9 +136,9 @@ disown "$OTHER"
 { echo "setting /run_id to $RUN"; cat "$W/rlexception.log"; } >"$W/external.log"
 FAKE_LOG=$W/external.log FAKE_RC=1 expect "an external master's processes are left alone" 2 ""
 if kill -0 "$OTHER" 2>/dev/null; then
-  echo "PASS: the external master's process still runs"; PASS=$((PASS + 1)); kill "$OTHER"
+  ok "the external master's process still runs"; kill "$OTHER"
 else
-  echo "FAIL: a process of an external master was stopped"; FAIL=$((FAIL + 1))
+  bad "a process of an external master was stopped"
 fi
 
 # 5. output="log": the FATAL lines are only in the node's own log file.
@@ -174,5 +173,4 @@ FAKE_LOG=$W/normal.log expect "expected file missing: exit 1" 1 "expected file m
 # 8. --timeout.
 FAKE_SLEEP=30 FAKE_LOG=/dev/null expect "--timeout: exit 124" 124 "did not end within 1 s" --timeout 1
 
-echo "launch_checked test: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ]
+finish "launch_checked test"

@@ -24,10 +24,8 @@ cleanup() {
   for p in "${PIDS[@]+"${PIDS[@]}"}"; do kill -KILL -- "-$p" 2>/dev/null; done
 }
 trap cleanup EXIT
-PASS=0
-FAIL=0
-ok() { echo "PASS: $*"; PASS=$((PASS + 1)); }
-bad() { echo "FAIL: $*"; FAIL=$((FAIL + 1)); }
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 setsid Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp -noreset 3>"$W/display" \
   >"$W/xvfb.log" 2>&1 &
@@ -107,5 +105,4 @@ else
 fi
 mkdir -p "$W/keep" && cp "$W"/*.png "$W/keep/" 2>/dev/null
 echo "images: $W/keep"
-echo "live_plot: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ] && [ "$PASS" -gt 0 ]
+finish "live_plot"

@@ -30,10 +30,8 @@ scenario:
     - {until: 4.0, scale: 0.1}
     - {until: 12.0, scale: 1.0}
 YAML
-PASS=0
-FAIL=0
-ok() { echo "PASS: $*"; PASS=$((PASS + 1)); }
-bad() { echo "FAIL: $*"; FAIL=$((FAIL + 1)); }
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 descendants() {  # pids of $1 and all its descendants
   local all
@@ -131,5 +129,4 @@ else
   bad "without the preload the check saw no 0.0.0.0 socket of plant/controller: $others"
 fi
 
-echo "loopback: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ] && [ "$PASS" -gt 0 ]
+finish "loopback"

@@ -99,10 +99,8 @@ for p in "${PIDS[@]}"; do
 done
 echo "slurm_sweep: single-node Slurm up ($(sinfo -h -o '%P %D %c %t'))"
 
-PASS=0
-FAIL=0
-ok() { echo "PASS: $*"; PASS=$((PASS + 1)); }
-bad() { echo "FAIL: $*"; FAIL=$((FAIL + 1)); }
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 wait_idle() {  # until no job is queued or running (at most $1 s)
   for _ in $(seq 1 $(($1 * 2))); do
     [ -z "$(timeout 5 squeue -h 2>&1)" ] && return 0
@@ -143,5 +141,4 @@ else
   bad "failing shard: a merge ran or the error is missing ($(cat "$W"/bad/*.out 2>/dev/null))"
 fi
 
-echo "slurm_sweep: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ] && [ "$PASS" -gt 0 ]
+finish "slurm_sweep"

@@ -15,10 +15,8 @@ command -v parallel >/dev/null ||
   { echo "SKIPPED: sweep_shards: GNU parallel not installed (apt-get install parallel)"; exit 77; }
 W=$(mktemp -d "${TMPDIR:-/tmp}/sweep_shards.XXXXXX")
 trap 'rm -rf "$W"' EXIT
-PASS=0
-FAIL=0
-ok() { echo "PASS: $*"; PASS=$((PASS + 1)); }
-bad() { echo "FAIL: $*"; FAIL=$((FAIL + 1)); }
+# shellcheck source=test/scripts/lib/counts.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 ARGS=(--scenario 1 --modes rac,pa_learn --seeds 1-2
   --grid controller.attention.c_ed=0.015,0.02,0.03 --no-wall-time --jobs 1)
@@ -99,5 +97,4 @@ refuse "--shard a/3" 2 "--shard" "$SWEEP" "${ARGS[@]}" --shard a/3
 refuse "--shard with --merge" 2 "give one of them" \
   "$SWEEP" "${ARGS[@]}" --shard 0/3 --merge "$S/shard_0.jsonl"
 
-echo "sweep_shards: $PASS passed, $FAIL failed"
-[ "$FAIL" = 0 ] && [ "$PASS" -gt 0 ]
+finish "sweep_shards"
