@@ -10,14 +10,11 @@ import sys
 import threading
 import time
 import unittest
-import xmlrpc.client
 
 import rosbag
-import rosgraph
-import rosnode
 import rospy
 
-from rostest_util import wait_for
+from rostest_util import signal_node, wait_for
 import rostest
 from preadaptive_mrac.msg import PlantState, RecorderProgress
 
@@ -52,16 +49,7 @@ class RecorderCrashTest(unittest.TestCase):
                 time.sleep(0.002)  # pacing the publisher, not waiting for a condition
         wait_for(lambda: progress["step"] >= N - 1, 30.0, "the recorder to write every state")
 
-        master = rosgraph.Master("/recorder_crash_check")
-        uri = rosnode.get_api_uri(master, "/bag_recorder")
-        pid = xmlrpc.client.ServerProxy(uri).getPid("/recorder_crash_check")[2]
-        os.kill(pid, signal.SIGKILL)
-        wait_for(
-            lambda: not os.path.exists("/proc/%d" % pid)
-            or open("/proc/%d/stat" % pid).read().split()[2] == "Z",
-            10.0,
-            "the recorder to die",
-        )
+        signal_node("/bag_recorder", signal.SIGKILL, 10.0, "the recorder to die")
 
         active = glob.glob(os.path.join(bag_dir, "*.bag.active"))
         closed = glob.glob(os.path.join(bag_dir, "*.bag"))

@@ -13,14 +13,11 @@ import signal
 import sys
 import threading
 import unittest
-import xmlrpc.client
 
 import rosbag
-import rosgraph
-import rosnode
 import rospy
 
-from rostest_util import wait_for
+from rostest_util import signal_node, wait_for
 import rostest
 from preadaptive_mrac.msg import ElevatorCommand, PlantState, RecorderProgress
 
@@ -81,16 +78,7 @@ class RecorderRepeatsTest(unittest.TestCase):
             set(HELD) <= set(repeated), "the plant re-sent the held states: %s" % repeated
         )
 
-        master = rosgraph.Master("/recorder_repeats_check")
-        uri = rosnode.get_api_uri(master, "/bag_recorder")
-        pid = xmlrpc.client.ServerProxy(uri).getPid("/recorder_repeats_check")[2]
-        os.kill(pid, signal.SIGINT)
-        wait_for(
-            lambda: not os.path.exists("/proc/%d" % pid)
-            or open("/proc/%d/stat" % pid).read().split()[2] == "Z",
-            30.0,
-            "the recorder to close its bag and exit",
-        )
+        signal_node("/bag_recorder", signal.SIGINT, 30.0, "the recorder to close its bag and exit")
         incomplete = bag[: -len(".bag")] + ".incomplete.bag"
         self.assertFalse(os.path.exists(incomplete), "the run reached its end: %s" % incomplete)
         self.assertTrue(os.path.exists(bag), "the recorder left %s" % bag)

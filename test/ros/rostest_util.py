@@ -19,6 +19,29 @@ def wait_for(pred, timeout, what, poll=0.002):
     raise AssertionError("timed out after %.1f s waiting for %s" % (timeout, what))
 
 
+def signal_node(node, sig, timeout, what):
+    """Send `sig` to the process of the launched node `node` (its pid asked through the
+    master and the node's own API) and wait until it has exited (gone, or a zombie of
+    roslaunch's); AssertionError naming `what` after `timeout` seconds. The pid."""
+    import os
+    import xmlrpc.client
+
+    import rosgraph
+    import rosnode
+
+    caller = rospy.get_name()
+    uri = rosnode.get_api_uri(rosgraph.Master(caller), node)
+    pid = xmlrpc.client.ServerProxy(uri).getPid(caller)[2]
+    os.kill(pid, sig)
+    wait_for(
+        lambda: not os.path.exists("/proc/%d" % pid)
+        or open("/proc/%d/stat" % pid).read().split()[2] == "Z",
+        timeout,
+        what,
+    )
+    return pid
+
+
 def subscribe_loop(test):
     """Subscribe controller/elevator_cmd (first, so that the command connection is up before a
     plant that waits for this node's state subscription starts) and plant/state, unbounded and
