@@ -60,6 +60,14 @@ class RecorderRepeatsTest(unittest.TestCase):
                 progress[m.topic] = max(progress.get(m.topic, -1), m.step)
 
         rospy.Subscriber("/bag_recorder/progress", RecorderProgress, on_progress, queue_size=1000)
+        # The plant starts once this node subscribes to its states: before that, both readers
+        # of the commands (the plant and the recorder) must be connected, as the controller's
+        # ~min_command_subscribers makes sure, or the first answers miss the bag.
+        wait_for(
+            lambda: pub.get_num_connections() >= 2,
+            60.0,
+            "the plant and the recorder to subscribe to the commands",
+        )
         rospy.Subscriber("/plant/state", PlantState, on_state, queue_size=None, tcp_nodelay=True)
 
         def recorded_to_end():
