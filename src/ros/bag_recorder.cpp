@@ -31,6 +31,13 @@ std::string dateSuffix() {
   return buf;
 }
 
+/// The message deserialized as M, or null when it is of another type.
+template <class M>
+boost::shared_ptr<M const> instantiateAs(const topic_tools::ShapeShifter& msg) {
+  if (msg.getDataType() != ros::message_traits::datatype<M>()) return {};
+  return msg.instantiate<M>();
+}
+
 }  // namespace
 
 BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params)
@@ -139,24 +146,17 @@ void BagRecorder::callback(const std::string& topic,
     std::memcpy(&nsec, buf_.data() + 8, 4);
     t = ros::Time(sec, nsec);
   }
-  const std::string& type = msg.getDataType();
-  const PlantState::ConstPtr st = type == ros::message_traits::datatype<PlantState>()
-                                      ? msg.instantiate<PlantState>()
-                                      : PlantState::ConstPtr();
+  const auto st = instantiateAs<PlantState>(msg);
   if (st && isRepeat(topic, ev.getPublisherName(), st->step, st->header.stamp)) return;
-  const ElevatorCommand::ConstPtr cmd = type == ros::message_traits::datatype<ElevatorCommand>()
-                                            ? msg.instantiate<ElevatorCommand>()
-                                            : ElevatorCommand::ConstPtr();
+  const auto cmd = instantiateAs<ElevatorCommand>(msg);
   if (cmd && isRepeat(topic, ev.getPublisherName(), cmd->step, cmd->header.stamp)) return;
   record(topic, t, *ev.getConstMessage(), ev.getConnectionHeaderPtr(), st.get());
   // The stepped topics of typedCallback (their step is only known deserialized).
   if (cmd) {
     reportStepProgress(topic, cmd->header.stamp, cmd->step);
-  } else if (type == ros::message_traits::datatype<AdaptationStatus>()) {
-    const auto m = msg.instantiate<AdaptationStatus>();
+  } else if (const auto m = instantiateAs<AdaptationStatus>(msg)) {
     reportStepProgress(topic, m->header.stamp, m->step);
-  } else if (type == ros::message_traits::datatype<PlantTruth>()) {
-    const auto m = msg.instantiate<PlantTruth>();
+  } else if (const auto m = instantiateAs<PlantTruth>(msg)) {
     reportStepProgress(topic, m->header.stamp, m->step);
   }
 }
@@ -197,7 +197,7 @@ bool BagRecorder::isRepeat(const std::string& topic, const std::string& publishe
   // Per publisher: another node's message of the same step (a stray publisher) is not a
   // repeat, and is recorded.
   const std::pair<std::uint64_t, ros::Time> key(step, stamp);
-  auto& last = last_written_[std::make_pair(topic, publisher)];
+  auto& last = last_written_[topic][publisher];  // no copy of either name once both are known
   if (last && *last == key) {
     ++repeats_[topic];
     return true;

@@ -109,7 +109,7 @@ class BagRecorder {
   std::map<std::string, bool> state_done_;
   /// The step and stamp of the last PlantState or ElevatorCommand written, per topic and
   /// publisher.
-  std::map<std::pair<std::string, std::string>, std::optional<std::pair<std::uint64_t, ros::Time>>>
+  std::map<std::string, std::map<std::string, std::optional<std::pair<std::uint64_t, ros::Time>>>>
       last_written_;
   std::map<std::string, std::uint64_t> repeats_;  ///< repeats not written, per topic
   std::map<std::string, bool> has_header_;        ///< by datatype
