@@ -17,3 +17,11 @@ def package_root():
         return rospkg.RosPack().get_path('preadaptive_mrac')
     except Exception:  # no ROS environment: the current folder, as a user would expect
         return os.getcwd()
+
+
+def tool_dir():
+    """The batch tools of a source tree's build (preadapt_sim, preadapt_family, ...):
+    <package root>/$BUILD_DIR/devel/lib/preadaptive_mrac, BUILD_DIR defaulting to build."""
+    return os.path.join(
+        package_root(), os.environ.get('BUILD_DIR', 'build'), 'devel', 'lib', 'preadaptive_mrac'
+    )

@@ -2,3 +2,10 @@
 config_mutation (broken YAML keys through roslaunch; the mutations themselves in
 yaml_mutations). scripts/<name>_study are their entry points.
 """
+
+
+def family_noise_seed(seed, scenario):
+    """The noise seed preadapt_family gives scenario `scenario` of the family `seed` (its
+    src/tools/preadapt_family.cpp), so that a study re-running one scenario draws the same
+    noise."""
+    return seed * 1000003 + scenario

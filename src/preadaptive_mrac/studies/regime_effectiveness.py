@@ -16,6 +16,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import yaml
 
+from ..paths import tool_dir
+
 
 def with_regime_effectiveness(scenario, lo, hi, rng):
     """The scenario dict with an `effectiveness` schedule: one Lambda per distinct theta."""
@@ -135,10 +137,7 @@ def main(argv=None, description=__doc__):
     ap.add_argument('--noise', type=float, default=1e-4, help='noise std on alpha and q')
     ap.add_argument('--jobs', type=int, default=2)
     args = ap.parse_args(argv)
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
-    bin_dir = os.path.join(
-        root, os.environ.get('BUILD_DIR', 'build'), 'devel', 'lib', 'preadaptive_mrac'
-    )
+    bin_dir = tool_dir()
     modes = args.modes.split(',')
     if 'rac' not in modes:
         modes.insert(0, 'rac')

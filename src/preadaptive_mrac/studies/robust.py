@@ -15,7 +15,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .. import modes  # noqa: E402
-from ..paths import package_root  # noqa: E402
+from ..paths import package_root, tool_dir  # noqa: E402
+from . import family_noise_seed  # noqa: E402
 
 ROOT = package_root()
 MODES = list(modes.MODES)
@@ -29,9 +30,7 @@ DECISION_STYLE = {
 
 
 def tool(name):
-    path = os.path.join(
-        ROOT, os.environ.get("BUILD_DIR", "build"), "devel", "lib", "preadaptive_mrac", name
-    )
+    path = os.path.join(tool_dir(), name)
     if not os.path.exists(path):
         sys.exit("robust_study: %s not found; build first (README)" % path)
     return path
@@ -243,6 +242,9 @@ def main(description=None, argv=None):
                 capture_output=True,
             )
         timeseries_figure(
-            scen, noise, a.seed * 1000003 + a.scenario_index, os.path.join(a.out, "timeseries.png")
+            scen,
+            noise,
+            family_noise_seed(a.seed, a.scenario_index),
+            os.path.join(a.out, "timeseries.png"),
         )
     print("robust_study: table.md, ratios.png, timeseries.png in %s" % a.out)

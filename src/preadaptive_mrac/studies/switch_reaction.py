@@ -18,6 +18,9 @@ import subprocess
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
+from ..paths import tool_dir
+from . import family_noise_seed
+
 
 def repeated_windows(windows):
     """Indices of the windows whose theta was seen in an earlier window (not the first)."""
@@ -112,7 +115,7 @@ def run_study(bin_dir, family_dir, seed, modes, noise=1e-4, pre=1.0, jobs=2):
         for o in runs[sc][m].get('overrides', []):
             cmd += ['--set', o]
         cmd += ['--set', 'plant.noise.std=[0,%g,%g]' % (noise, noise)]
-        cmd += ['--set', 'plant.noise.seed=%d' % (seed * 1000003 + index[sc])]
+        cmd += ['--set', 'plant.noise.seed=%d' % family_noise_seed(seed, index[sc])]
         cmd += ['--csv', csv_path]
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         series = read_abs_e(csv_path)
@@ -191,10 +194,7 @@ def main(argv=None, description=__doc__):
     ap.add_argument('--worst', type=int, default=10, help='windows listed')
     ap.add_argument('--jobs', type=int, default=2)
     args = ap.parse_args(argv)
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
-    bin_dir = os.path.join(
-        root, os.environ.get('BUILD_DIR', 'build'), 'devel', 'lib', 'preadaptive_mrac'
-    )
+    bin_dir = tool_dir()
     modes = ['rac'] if args.mode == 'rac' else ['rac', args.mode]
     try:
         rows = run_study(bin_dir, args.dir, args.seed, modes, args.noise, args.pre, args.jobs)
