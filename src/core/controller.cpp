@@ -221,6 +221,9 @@ StepOutput Controller::step(const StepInput& in) {
   li.r = in.r;
   out.u_baseline = -dotOf(K_, x);
   out.u_adaptive = lawCommand(li);
+  // A strategy's probing signal is part of the adaptive term (only pa_robust has one).
+  const double excitation = strategy_->excitation(in.t);
+  if (excitation != 0.0) out.u_adaptive += excitation;
   out.u_unsaturated = out.u_baseline + out.u_adaptive;
   // The command the actuator can follow; the plant applies the same limits.
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);

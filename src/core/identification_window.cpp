@@ -12,6 +12,7 @@ void IdentificationWindow::resize(int capacity, int long_len, Eigen::Index n) {
   phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
   th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
   y_.assign(static_cast<size_t>(cap_), 0.0);
+  u_.assign(static_cast<size_t>(cap_), 0.0);
   phi_long_.setZero(n);
   clear();
 }
@@ -24,7 +25,7 @@ void IdentificationWindow::clear() {
   since_refresh_ = 0;
 }
 
-void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat) {
+void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat, double u) {
   if (long_ > 0 && count_ >= long_) {  // the sample leaving the long window
     subtractFrom(phi_[static_cast<size_t>(at(long_ - 1))], &phi_long_);
     y_long_ -= y_[static_cast<size_t>(at(long_ - 1))];
@@ -32,6 +33,7 @@ void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat) 
   head_ = (head_ + 1) % cap_;
   copyTo(phi, &phi_[static_cast<size_t>(head_)]);
   y_[static_cast<size_t>(head_)] = y;
+  u_[static_cast<size_t>(head_)] = u;
   copyTo(theta_hat, &th_[static_cast<size_t>(head_)]);
   count_ = std::min(count_ + 1, cap_);
   if (long_ > 0) {

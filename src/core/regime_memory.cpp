@@ -21,7 +21,8 @@ int RegimeMemory::evictIndex() const {
   return worst;
 }
 
-int RegimeMemory::remember(const Vec& theta, const Vec& direction, double merge_tol) {
+int RegimeMemory::remember(const Vec& theta, const Vec& direction, double merge_tol, double loss,
+                           double loss_info) {
   const std::int64_t stamp = nextStamp();
   const double dn = direction.norm();
   int best = -1;
@@ -40,6 +41,11 @@ int RegimeMemory::remember(const Vec& theta, const Vec& direction, double merge_
   if (best >= 0) {
     RegimeEntry& e = (*entries_)[static_cast<size_t>(best)];
     e.theta = theta;
+    if (loss_info > 0.0) {
+      const double w = e.loss_info + loss_info;
+      e.loss = (e.loss_info * e.loss + loss_info * loss) / w;
+      e.loss_info = w;
+    }
     ++e.uses;
     e.last_used = stamp;
     return best;
@@ -49,6 +55,8 @@ int RegimeMemory::remember(const Vec& theta, const Vec& direction, double merge_
   fresh.theta = theta;
   fresh.uses = 1;
   fresh.last_used = stamp;
+  fresh.loss = loss_info > 0.0 ? loss : 0.0;
+  fresh.loss_info = std::max(loss_info, 0.0);
   if (size() >= capacity_) {
     const int victim = evictIndex();
     (*entries_)[static_cast<size_t>(victim)] = fresh;

@@ -6,6 +6,7 @@
 #include "preadaptive_mrac/core/attention.hpp"
 #include "preadaptive_mrac/core/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
+#include "preadaptive_mrac/core/solvers.hpp"
 
 namespace preadaptive_mrac {
 
@@ -16,8 +17,9 @@ int samplesOf(double seconds, double dt) {
 }  // namespace
 
 RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant,
-                                         PreadaptNetwork* net)
+                                         const Vec& K, PreadaptNetwork* net)
     : rc_(cfg.robust),
+      K_(K),
       projection_(cfg.projection),
       theta_max_(cfg.theta_max),
       dt_(cfg.sample_time),
@@ -34,7 +36,10 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
   theta_net_.setZero(n);
   Gr_.setZero(n, n);
   hr_.setZero(n);
+  hvr_.setZero(n);
   prior_.setZero(n);
+  block_.phi.setZero(n);
+  pending_block_.phi.setZero(n);
   net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
   reset();
 }
@@ -85,6 +90,13 @@ void RobustPreadaptation::reset() {
   next_chunk_k_ = 0;
   rho_long_ = 0.0;
   long_trigger_ = false;
+  nu_regime_ = nu_decided_ = 0.0;
+  lossReset(-1);
+  block_.phi.setZero(B_.size());
+  block_.y = block_.v = block_.d = 0.0;
+  block_.start_k = 0;
+  block_half_ = 0;
+  t_prev_ = 0.0;
 }
 
 RegimeMemory RobustPreadaptation::memory() {
@@ -117,23 +129,28 @@ double RobustPreadaptation::triggerThreshold() const {
 Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {
   (void)attention;
   const Vec& x = *s.x;
+  Vec phi_k, d;
+  double y_k = 0.0;
+  const bool sample = have_prev_;
   if (have_prev_) {
-    Vec phi, d;
     if (fastThree(x.size())) {
-      residualSample3(x, s.u_prev, s.r_prev, &phi, &d);
+      residualSample3(x, s.u_prev, s.r_prev, &phi_k, &d);
     } else {
       Vec xm = 0.5 * (x_prev_ + x);
       d = x - x_prev_;
       Vec f;
       f.noalias() = A_ * xm;
       d -= dt_ * (f + B_ * s.u_prev + B1r_ * s.r_prev);
-      phi = dt_ * xm;
+      phi_k = dt_ * xm;
     }
-    win_.push(phi, dotOf(B_, d) / bb_, theta_hat);
+    y_k = dotOf(B_, d) / bb_;
+    win_.push(phi_k, y_k, theta_hat, s.u_prev);
   }
   copyTo(x, &x_prev_);
   have_prev_ = true;
   ++k_;
+  if (sample) lossSample(t_prev_, phi_k, y_k, s.u_prev);
+  t_prev_ = s.t;
   if (win_.count() < Ld_) return Detection::kNone;
 
   const double Td = Ld_ * dt_;
@@ -226,8 +243,11 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
     double ysum = 0.0;
     const int len = std::min(Ld_, win_.count() - m);
     win_.sums(m, len, &dir, &ysum);
-    memory().remember(theta_keep_, dir / (len * dt_), rc_.merge_tolerance);
+    // With the loss of effectiveness fitted over the visit (pooled with the entry's).
+    const std::pair<double, double> loss = lossFit();
+    memory().remember(theta_keep_, dir / (len * dt_), rc_.merge_tolerance, loss.first, loss.second);
   }
+  lossReset(-1);
 
   z_onset_ << s.e, std::abs(s.e_dot);
   if (rc_.use_network) net_->forward(z_onset_, &theta_net_);
@@ -262,10 +282,18 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
     hr_.setZero();
     cr_ = 0.0;
     const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
+    hvr_.setZero();
     for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
       const int len = std::min(Lc_, j0 + 1);
       addChunk(&Gr_, &hr_, &cr_, j0 - len + 1, len);
+      Vec Phi;
+      double Y = 0.0;
+      win_.sums(j0 - len + 1, len, &Phi, &Y);
+      hvr_ += chunkV(j0 - len + 1, len) * Phi;
     }
+    // The regime's fit aims with the loss the last decision used (a recalled entry's).
+    nu_regime_ = nu_decided_;
+    lossReset(k_);
     prior_ = *theta_hat;
     next_chunk_k_ = k_ + Lc_;
   }
@@ -290,6 +318,16 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   if (!regime_fit_ || verifying_ || k_ < next_chunk_k_) return false;
   next_chunk_k_ += Lc_;
   addChunk(&Gr_, &hr_, &cr_, 0, Lc_);
+  if (nu_regime_ > 0.0) {
+    Vec Phi;
+    double Y = 0.0;
+    win_.sums(0, Lc_, &Phi, &Y);
+    hvr_ += chunkV(0, Lc_) * Phi;
+  }
+  // With a loss nu the data reads y = (1 - nu) th^T phi + nu (theta_rec^T phi + ...) for the
+  // loop's fixed point th: the fit aims at th through (Y - nu v) / (1 - nu).
+  const double nu = nu_regime_;
+  const Vec h_fix = nu > 0.0 ? Vec((hr_ - nu * hvr_) / (1.0 - nu)) : hr_;
   // Bayesian least squares of the regime's data around the prior (the decision's estimate):
   // excited directions follow the data, unexcited ones stay at the prior.
   const double sigma = chunkSigma();
@@ -298,7 +336,7 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   const double lambda =
       sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(Gr_.trace(), 0.0);
   for (int i = 0; i < n; ++i) Gl(i, i) += lambda;
-  const Vec fit = prior_ + Gl.ldlt().solve(hr_ - Gr_ * prior_);
+  const Vec fit = prior_ + Gl.ldlt().solve(h_fix - Gr_ * prior_);
   const double step = std::min(1.0, rc_.cl_gain * Lc_ * dt_);
   Vec next = *theta_hat + step * (fit - *theta_hat);
   // Do no harm along the recent data: the pull may not make theta_hat explain the last long
@@ -319,6 +357,7 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
     } else {
       win_.sums(0, len, &phi, &y);
     }
+    if (nu > 0.0) y = (y - nu * chunkV(0, len)) / (1.0 - nu);
     const double pp = phi.squaredNorm();
     if (pp > 0.0) {
       const double r0 = y - theta_hat->dot(phi);
@@ -345,6 +384,39 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
     addChunk(&G, &h, &c, j0 - len + 1, len);
   }
   auto J = [&](const Vec& th) { return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th)); };
+  // A remembered regime with a loss nu is judged by the data it predicts while theta_hat is
+  // still elsewhere: for the loop's fixed point th, y = (1 - nu) th^T phi + nu v (chunkV).
+  RegimeMemory mem = memory();
+  std::vector<double> loss(static_cast<size_t>(mem.size()), 0.0);
+  bool any_loss = false;
+  for (int i = 0; i < mem.size(); ++i) {
+    loss[static_cast<size_t>(i)] = entryLoss(mem.at(i));
+    any_loss = any_loss || loss[static_cast<size_t>(i)] > 0.0;
+  }
+  Vec hv = Vec::Zero(n);
+  double syv = 0.0, svv = 0.0, v_tot = 0.0;
+  if (any_loss) {
+    for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
+      const int len = std::min(Lc_, j0 + 1);
+      Vec Phi;
+      double Y = 0.0;
+      win_.sums(j0 - len + 1, len, &Phi, &Y);
+      const double V = chunkV(j0 - len + 1, len);
+      hv += V * Phi;
+      syv += Y * V;
+      svv += V * V;
+      v_tot += V;
+    }
+  }
+  // sum (Y - (1 - nu) th^T Phi - nu V)^2 = J(th) - 2 nu sum (Y - th^T Phi)(V - th^T Phi) + nu^2
+  // sum (V - th^T Phi)^2.
+  auto Jnu = [&](const Vec& th, double nu) {
+    if (nu <= 0.0) return J(th);
+    const double rw = syv - th.dot(hv) - th.dot(h) + th.dot(G * th);
+    const double ww = svv - 2.0 * th.dot(hv) + th.dot(G * th);
+    return std::max(0.0, J(th) - 2.0 * nu * rw + nu * nu * ww);
+  };
+  double nu_chosen = 0.0;
   const double sigma = chunkSigma();
   const double z = std::sqrt(rc_.significance);  // in standard deviations
 
@@ -361,15 +433,16 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   int chosen = -1;
   double j_best = j_keep;
   Vec base = theta_keep_;
-  RegimeMemory mem = memory();
   int candidates = 1;
   for (int i = 0; i < mem.size(); ++i, ++candidates) {
-    const double ji = J(mem.at(i).theta);
+    const double nui = loss[static_cast<size_t>(i)];
+    const double ji = Jnu(mem.at(i).theta, nui);
     if (ji < j_best && beats(mem.at(i).theta, ji)) {
       j_best = ji;
       kind = Event::Decision::kMemory;
       chosen = i;
       base = mem.at(i).theta;
+      nu_chosen = nui;
     }
   }
   if (rc_.use_network) {
@@ -380,6 +453,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
       kind = Event::Decision::kNetwork;
       chosen = -1;
       base = theta_net_;
+      nu_chosen = 0.0;
     }
   }
   // Fit what the data determines (Bayesian least squares around the chosen base): excited
@@ -389,8 +463,10 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   const double lambda =
       sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(G.trace(), 0.0);
   for (int i = 0; i < n; ++i) Gr(i, i) += lambda;
-  Vec fitted = base + Gr.ldlt().solve(h - G * base);
-  const double j_fit = J(fitted);
+  // With a recalled loss the fit and the mean below aim at the fixed point: (Y - nu V) / (1 - nu).
+  const Vec h_fix = nu_chosen > 0.0 ? Vec((h - nu_chosen * hv) / (1.0 - nu_chosen)) : h;
+  Vec fitted = base + Gr.ldlt().solve(h_fix - G * base);
+  const double j_fit = Jnu(fitted, nu_chosen);
   // The fit moves the base only when the base's mean mismatch over all post-change data,
   // |sum Y - base^T sum Phi|, is beyond z standard deviations: the total's noise is endpoint
   // noise only (the sums telescope). So noise moves nothing, and a recalled regime that
@@ -398,6 +474,8 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   Vec phi_tot;
   double y_tot = 0.0;
   win_.sums(0, m, &phi_tot, &y_tot);
+  if (nu_chosen > 0.0) y_tot = (y_tot - nu_chosen * v_tot) / (1.0 - nu_chosen);
+  nu_decided_ = nu_chosen;
   if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best) {
     if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
   } else {
@@ -438,6 +516,91 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   ev->score_keep = std::sqrt(j_keep) * norm;
 }
 
+double RobustPreadaptation::chunkV(int j0, int len) const {
+  double v = 0.0;
+  for (int j = j0; j < j0 + len; ++j) {
+    const int i = win_.at(j);
+    v += -win_.u(i) * dt_ - K_.dot(win_.phi(i));
+  }
+  return v;
+}
+
+double RobustPreadaptation::entryLoss(const RegimeEntry& e) const {
+  // Only a loss `significance` (3 sigma) from 0; an elevator more effective than modelled
+  // (nu < 0) is not used.
+  if (rc_.loss_max <= 0.0 || !(e.loss_info > 0.0)) return 0.0;
+  if (!(e.loss * std::sqrt(e.loss_info) > std::sqrt(rc_.significance))) return 0.0;
+  return std::min(e.loss, rc_.loss_max);
+}
+
+std::int64_t RobustPreadaptation::excitationHalf(double t) const {
+  return static_cast<std::int64_t>(std::floor(2.0 * t / rc_.excitation_period + 1e-9));
+}
+
+double RobustPreadaptation::excitation(double t) const {
+  if (rc_.excitation <= 0.0) return 0.0;
+  return excitationHalf(t) % 2 == 0 ? rc_.excitation : -rc_.excitation;
+}
+
+void RobustPreadaptation::lossReset(std::int64_t start_k) {
+  const Eigen::Index n = B_.size() + 1;
+  loss_start_k_ = start_k;
+  ZX_.setZero(n, n);
+  ZZ_.setZero(n, n);
+  ZY_.setZero(n);
+  pending_ = false;
+  loss_blocks_ = 0;
+}
+
+void RobustPreadaptation::lossSample(double t_prev, const Vec& phi, double y, double u_prev) {
+  if (rc_.excitation <= 0.0 || rc_.loss_max <= 0.0) return;
+  // The sample covers [t_prev, t_k]: the command there carried excitation(t_prev).
+  const std::int64_t half = excitationHalf(t_prev);
+  if (half != block_half_) {  // a flip: the block closes, the one before it joins the fit
+    const Eigen::Index n = B_.size();
+    if (pending_) {
+      Vec z(n + 1), x(n + 1);
+      z << pending_block_.phi, pending_block_.d;
+      x << pending_block_.phi, pending_block_.v;
+      ZX_.noalias() += z * x.transpose();
+      ZZ_.noalias() += z * z.transpose();
+      ZY_ += pending_block_.y * z;
+      ++loss_blocks_;
+    }
+    pending_ = loss_start_k_ >= 0 && block_.start_k >= loss_start_k_;
+    std::swap(pending_block_, block_);
+    block_.phi.setZero(n);
+    block_.y = block_.v = block_.d = 0.0;
+    block_.start_k = k_;
+    block_half_ = half;
+  }
+  block_.phi += phi;
+  block_.y += y;
+  block_.v += -u_prev * dt_ - K_.dot(phi);
+  block_.d += excitation(t_prev) * dt_;
+}
+
+std::pair<double, double> RobustPreadaptation::lossFit() const {
+  // Instrumental variables: y = c^T Phi + nu v over the blocks, instruments (Phi, D). The
+  // measurement noise enters u through the feedback and correlates with the noise of y, so a
+  // least-squares fit on v is biased; the excitation is known and independent of it. The
+  // noise of a block sum is endpoint noise (chunkSigma()), whatever the block's length.
+  constexpr int kMinBlocks = 4;
+  if (rc_.loss_max <= 0.0 || rc_.excitation <= 0.0 || loss_blocks_ < kMinBlocks) return {0.0, 0.0};
+  const Eigen::Index n = B_.size();
+  Mat A = ZX_;
+  const double ridge = 1e-12 * std::max(ZX_.topLeftCorner(n, n).trace(), 0.0);
+  for (Eigen::Index i = 0; i < n; ++i) A(i, i) += ridge;
+  const auto lu = A.fullPivLu();
+  if (!lu.isInvertible()) return {0.0, 0.0};
+  const Mat Ai = lu.inverse();
+  const Vec beta = Ai * ZY_;
+  const double sigma = chunkSigma();
+  const double var = sigma * sigma * (Ai * ZZ_ * Ai.transpose())(n, n);
+  if (!(var > 0.0) || !std::isfinite(beta[n])) return {0.0, 0.0};
+  return {beta[n], 1.0 / var};
+}
+
 void RobustPreadaptation::duringPhase(const Sample& s, double u, const Vec& theta_hat) {
   (void)u;
   (void)theta_hat;
@@ -463,7 +626,8 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
 }
 
 std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m) {
-  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.plant, m.net);
+  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.plant, Vec(m.design->K.transpose()),
+                                               m.net);
 }
 
 }  // namespace preadaptive_mrac

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -55,15 +56,17 @@ std::string weightsToYaml(const NetworkState& s) {
     for (int i = 0; i < s.W.cols(); ++i) os << (i ? ", " : "") << num(s.W(j, i));
     os << "]\n";
   }
-  // Version 2: the regimes pa_robust remembers (theta, how often used, last-use stamp).
+  // Version 2: the regimes pa_robust remembers (theta, how often used, last-use stamp);
+  // version 3: with each its loss of effectiveness and the information of that fit.
   if (s.regimes.empty()) {
-    os << "regimes: []  # remembered by pa_robust: theta, uses, last_used\n";
+    os << "regimes: []  # remembered by pa_robust: theta, uses, last_used, loss, loss_info\n";
   } else {
-    os << "regimes:  # remembered by pa_robust: theta, uses, last_used\n";
+    os << "regimes:  # remembered by pa_robust: theta, uses, last_used, loss, loss_info\n";
     for (const RegimeEntry& e : s.regimes) {
       os << "  - theta: [";
       for (Eigen::Index i = 0; i < e.theta.size(); ++i) os << (i ? ", " : "") << num(e.theta[i]);
-      os << "]\n    uses: " << e.uses << "\n    last_used: " << e.last_used << "\n";
+      os << "]\n    uses: " << e.uses << "\n    last_used: " << e.last_used
+         << "\n    loss: " << num(e.loss) << "\n    loss_info: " << num(e.loss_info) << "\n";
     }
   }
   return os.str();
@@ -165,14 +168,24 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
           r.fail(key, "expected a map {theta, uses, last_used}, got " + item.describe());
           continue;
         }
-        for (const auto& kv : item.map())
-          if (kv.first != "theta" && kv.first != "uses" && kv.first != "last_used")
+        for (const auto& kv : item.map()) {
+          const bool v3 = kv.first == "loss" || kv.first == "loss_info";
+          if (kv.first != "theta" && kv.first != "uses" && kv.first != "last_used" &&
+              !(v3 && version >= 3))
             r.fail(key + "." + kv.first, "unknown key");
+        }
         RegimeEntry e;
         e.theta = r.getVector(key + ".theta", static_cast<int>(outputs));
         e.uses = r.getInt(key + ".uses");
         e.last_used = r.getInt(key + ".last_used");
         if (r.has(key + ".uses") && e.uses < 0) r.fail(key + ".uses", "must be >= 0");
+        if (version >= 3) {  // optional: absent, no loss identified
+          e.loss = r.getDouble(key + ".loss", 0.0);
+          e.loss_info = r.getDouble(key + ".loss_info", 0.0);
+          if (!std::isfinite(e.loss)) r.fail(key + ".loss", "must be finite");
+          if (!(e.loss_info >= 0.0) || !std::isfinite(e.loss_info))
+            r.fail(key + ".loss_info", "must be finite and >= 0");
+        }
         s.regimes.push_back(e);
       }
     }

@@ -317,6 +317,8 @@ TEST(Robust, ConcurrentLearningDoesNoHarmAlongTheRecentData) {
   // (concurrent learning) drifted theta_hat along the steady state for seconds and built an
   // error of 0.35 and 0.23 mrad (4.4x and 2.3x rac's). The pull may not explain the last
   // long window worse than before: the repeated switch (window 3) stays within 1.5x of rac.
+  // Without the excitation: its square wave alone moves e by about 0.1 mrad, as much as rac's
+  // whole peak here (checked last).
   FamilySpec spec;
   spec.regimes = 4;
   RunConfig cfg = robustConfig();
@@ -326,6 +328,8 @@ TEST(Robust, ConcurrentLearningDoesNoHarmAlongTheRecentData) {
   cfg.scenario.reference = {{50.0, 0.1}};
   ASSERT_NEAR(cfg.scenario.theta[1].until, 21.843, 1e-3);
   ASSERT_NEAR(cfg.scenario.theta[2].until, 41.06, 1e-3);
+  const RunConfig excited = cfg;
+  cfg.controller.robust.excitation = 0.0;
   const SimResult robust = runAs(cfg, "pa_robust");
   const SimResult rac = runAs(cfg, "rac");
   ASSERT_EQ(robust.metrics.windows.size(), 4u);
@@ -335,6 +339,9 @@ TEST(Robust, ConcurrentLearningDoesNoHarmAlongTheRecentData) {
   // And the run as a whole stays better than rac (IAE 0.56 of rac's, the first visits
   // included).
   EXPECT_LT(robust.metrics.iae, 0.75 * rac.metrics.iae);
+  // With the excitation (the default) the window's peak is that floor, a few tenths of a mrad.
+  const SimResult with_excitation = runAs(excited, "pa_robust");
+  EXPECT_LT(with_excitation.metrics.windows[3].peak_abs_e, 2.5e-4);
 }
 
 namespace {
@@ -389,4 +396,66 @@ TEST(Robust, CommandedFeedbackIgnoresTheReportedSurfacePosition) {
   EXPECT_EQ(absent.controller.elevator_feedback, ElevatorFeedback::kMeasured);
   for (const auto& d : absent.defaults_used)
     EXPECT_EQ(d.find("elevator_feedback"), std::string::npos) << d;
+}
+
+namespace {
+
+// A B A B with a loss of elevator effectiveness per regime (Lambda 0.42 in A, 0.745 in B; the
+// regimes of family seed 90210's scenario 28) and 0.1 mrad noise.
+RunConfig lossConfig(bool with_loss) {
+  RunConfig cfg = robustConfig();
+  cfg.scenario = abab(vec3(9.68, 7.72, 9.49), vec3(10.34, 5.90, 10.52));
+  if (with_loss) {
+    cfg.scenario.effectiveness = {
+        {5.0, 1.0}, {20.0, 0.42}, {35.0, 0.745}, {50.0, 0.42}, {65.0, 0.745}};
+  }
+  cfg.plant.noise.std = vec3(0.0, 1e-4, 1e-4);
+  cfg.plant.noise.seed = 7;
+  return cfg;
+}
+
+}  // namespace
+
+TEST(Robust, LossOfEffectivenessIsIdentifiedWithEachRegime) {
+  // With the excitation on, every banked regime carries nu = 1 - Lambda: the regime with
+  // Lambda 0.42 (nu 0.58) is found well beyond 3 standard deviations, near its value.
+  RunConfig cfg = lossConfig(true);
+  Controller ctl(cfg.plant, cfg.controller);
+  run(cfg, &ctl);
+  double best_z = 0.0, best_loss = 0.0;
+  for (const RegimeEntry& e : ctl.network().state().regimes) {
+    const double z = e.loss * std::sqrt(e.loss_info);
+    if (z > best_z) best_z = z, best_loss = e.loss;
+  }
+  EXPECT_GT(best_z, 3.0);
+  EXPECT_NEAR(best_loss, 0.58, 0.15);
+  // On the ideal plant no regime's loss is significant: nothing will be extrapolated.
+  RunConfig ideal = lossConfig(false);
+  Controller ictl(ideal.plant, ideal.controller);
+  run(ideal, &ictl);
+  ASSERT_GE(ictl.network().state().regimes.size(), 2u);
+  for (const RegimeEntry& e : ictl.network().state().regimes) {
+    EXPECT_GT(e.loss_info, 0.0);
+    EXPECT_LT(std::abs(e.loss) * std::sqrt(e.loss_info), 3.0) << e.loss << " " << e.loss_info;
+  }
+  // Without the excitation nothing identifies it: no regime carries a loss.
+  cfg.controller.robust.excitation = 0.0;
+  Controller quiet(cfg.plant, cfg.controller);
+  run(cfg, &quiet);
+  for (const RegimeEntry& e : quiet.network().state().regimes) EXPECT_EQ(e.loss_info, 0.0);
+}
+
+TEST(Robust, RememberedLossCutsTheReturnPeak) {
+  // The second return into B (t 50-65 s): recalled with its loss, the estimate aims at the
+  // loop's fixed point; without (loss_max 0, the same excitation) the peak is about twice as
+  // high.
+  RunConfig cfg = lossConfig(true);
+  Controller with(cfg.plant, cfg.controller);
+  const SimResult a = run(cfg, &with);
+  cfg.controller.robust.loss_max = 0.0;
+  Controller without(cfg.plant, cfg.controller);
+  const SimResult b = run(cfg, &without);
+  ASSERT_EQ(a.metrics.windows.size(), 5u);
+  EXPECT_LT(a.metrics.windows[4].peak_abs_e, 0.7 * b.metrics.windows[4].peak_abs_e)
+      << a.metrics.windows[4].peak_abs_e << " " << b.metrics.windows[4].peak_abs_e;
 }

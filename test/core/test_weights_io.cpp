@@ -68,9 +68,9 @@ TEST(WeightsIo, CorruptFilesAreClearErrors) {
   std::string other = good;
   other.replace(other.find("preadaptive_mrac/weights"), 24, "something/else");
   EXPECT_NE(errorOf(other).find("format"), std::string::npos);
-  std::string v3 = good;
-  v3.replace(v3.find("version: 2"), 10, "version: 3");
-  EXPECT_NE(errorOf(v3).find("unsupported version 3"), std::string::npos);
+  std::string v4 = good;
+  v4.replace(v4.find("version: 3"), 10, "version: 4");
+  EXPECT_NE(errorOf(v4).find("unsupported version 4"), std::string::npos);
   // A NaN weight.
   std::string nan = good;
   nan.replace(nan.find("W:") + good.substr(good.find("W:")).find("[") + 1, 0, ".nan, ");
@@ -92,6 +92,8 @@ TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
     e.theta[1] = -2.5 * k;
     e.uses = k + 1;
     e.last_used = 10 * k;
+    e.loss = 0.1 * k + 1.0 / 7.0;
+    e.loss_info = 3.5 * k + 0.5;
     s.regimes.push_back(e);
   }
   const std::string dir = tmpDir();
@@ -102,10 +104,26 @@ TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
     EXPECT_EQ((back.regimes[k].theta - s.regimes[k].theta).cwiseAbs().maxCoeff(), 0.0);
     EXPECT_EQ(back.regimes[k].uses, s.regimes[k].uses);
     EXPECT_EQ(back.regimes[k].last_used, s.regimes[k].last_used);
+    EXPECT_EQ(back.regimes[k].loss, s.regimes[k].loss);
+    EXPECT_EQ(back.regimes[k].loss_info, s.regimes[k].loss_info);
   }
+  // A version 2 file (regimes without a loss) loads with no loss identified; in it the
+  // version 3 keys are unknown.
+  std::string v2 = weightsToYaml(s);
+  v2.replace(v2.find("version: 3"), 10, "version: 2");
+  EXPECT_NE(errorOf(v2).find("regimes.0.loss: unknown key"), std::string::npos) << errorOf(v2);
+  std::string v2_clean;
+  std::istringstream lines(v2);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("    loss", 0) != 0) v2_clean += line + "\n";
+  EXPECT_EQ(errorOf(v2_clean), "no error");
+  const NetworkState old = parseWeights(v2_clean, "w2.yaml", 3, 3);
+  ASSERT_EQ(old.regimes.size(), 3u);
+  EXPECT_EQ(old.regimes[2].loss, 0.0);
+  EXPECT_EQ(old.regimes[2].loss_info, 0.0);
   // A version 1 file (no regimes) loads with an empty memory.
   std::string v1 = weightsToYaml(PreadaptNetwork(3, 3, 5, 1.0).state());
-  v1.replace(v1.find("version: 2"), 10, "version: 1");
+  v1.replace(v1.find("version: 3"), 10, "version: 1");
   v1.erase(v1.find("regimes:"));
   EXPECT_EQ(errorOf(v1), "no error");
   EXPECT_TRUE(parseWeights(v1, "w1.yaml", 3, 3).regimes.empty());
@@ -127,6 +145,17 @@ TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
   std::string neg = good;
   neg.replace(neg.find("uses: 1"), 7, "uses: -1");
   EXPECT_NE(errorOf(neg).find("regimes.0.uses"), std::string::npos) << errorOf(neg);
+  // A loss that is not a number, an information below 0: each named.
+  auto withLine = [&](const std::string& prefix, const std::string& line) {
+    std::string t = good;
+    const size_t at = t.find(prefix);
+    t.replace(at, t.find('\n', at) - at, line);
+    return t;
+  };
+  const std::string nan_loss = withLine("    loss: ", "    loss: .nan");
+  EXPECT_NE(errorOf(nan_loss).find("regimes.0.loss"), std::string::npos) << errorOf(nan_loss);
+  const std::string neg_info = withLine("    loss_info: ", "    loss_info: -1");
+  EXPECT_NE(errorOf(neg_info).find("regimes.0.loss_info"), std::string::npos) << errorOf(neg_info);
 }
 
 TEST(WeightsIo, MismatchedSizesAreClearErrors) {

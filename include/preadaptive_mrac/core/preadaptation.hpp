@@ -94,6 +94,12 @@ class PreadaptationStrategy {
     (void)cfg;
     return false;
   }
+  /// \brief An excitation [rad] the controller adds to the command at sample time t (an
+  /// identifier's probing signal; 0: none, the paper's modes).
+  virtual double excitation(double t) const {
+    (void)t;
+    return 0.0;
+  }
   /// \brief Start a phase with theta_hat already set (an external trigger, Controller::startPhase).
   virtual void startExternalPhase() {}
 };

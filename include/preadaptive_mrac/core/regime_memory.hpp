@@ -15,6 +15,10 @@ struct RegimeEntry {
   Vec theta;                   ///< estimate of theta in the regime
   std::int64_t uses = 0;       ///< times it was stored, merged or recalled
   std::int64_t last_used = 0;  ///< stamp of the last use (larger = more recent)
+  /// Loss of elevator effectiveness (1 - Lambda) fitted over the regime's visits, and its
+  /// information (1 / variance); 0 and 0 when never fitted.
+  double loss = 0.0;
+  double loss_info = 0.0;
 };
 
 /// \brief A view that keeps a list of regimes bounded: close entries merge, and when the list
@@ -28,7 +32,9 @@ class RegimeMemory {
   /// [rad, input-equivalent], that entry is replaced by theta (the newer estimate) and counted;
   /// otherwise theta is added, evicting first when full. Returns the entry's index, or -1 when
   /// the capacity is 0.
-  int remember(const Vec& theta, const Vec& direction, double merge_tol);
+  /// The loss fit (loss, information) is pooled with the entry's by information.
+  int remember(const Vec& theta, const Vec& direction, double merge_tol, double loss = 0.0,
+               double loss_info = 0.0);
   /// \brief Count a recall of entry i.
   void markUsed(int i);
   int size() const { return static_cast<int>(entries_->size()); }

@@ -9,7 +9,15 @@
 ///   y_k   = B^T [x_k - x_{k-1} - dt (A (x_{k-1} + x_k) / 2 + B u_{k-1} + B1r r_{k-1})] / B^T B,
 /// so that y_k = theta^T phi_k up to O(dt^3) while theta is constant (eq. plant). The residual
 /// of an estimate over a window is sum (y - theta_hat^T phi) / T [rad, input-equivalent].
+///
+/// A loss of elevator effectiveness (the plant applies Lambda u) makes the data read
+/// y = theta^T phi + (Lambda - 1) u dt instead. A square-wave excitation on the command
+/// (`excitation`) identifies nu = 1 - Lambda per regime (instrumental variables, the excitation
+/// as the instrument); a remembered regime carries its nu into its recall, the fit and
+/// concurrent learning, which then aim at the loop's fixed point (docs/robust.md).
 
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "preadaptive_mrac/core/controller_config.hpp"
@@ -24,7 +32,9 @@ namespace preadaptive_mrac {
 
 class RobustPreadaptation : public PreadaptationStrategy {
  public:
-  RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant, PreadaptNetwork* net);
+  /// \brief `K` is the baseline gain (u_baseline = -K^T x).
+  RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant, const Vec& K,
+                      PreadaptNetwork* net);
   std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
     auto c = std::make_unique<RobustPreadaptation>(*this);
     c->net_ = net;
@@ -43,7 +53,12 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// \brief Gains and thresholds take effect at once; a new detect_window, chunk or verify_time
   /// re-sizes the data window and restarts identification (returns true), as a reset does.
   bool setTunables(const ControllerConfig& cfg) override;
+  /// \brief The square wave +-`excitation` of period `excitation_period` at time t [rad].
+  double excitation(double t) const override;
 
+  /// \brief The loss of effectiveness nu = 1 - Lambda identified over the current regime so far
+  /// and its information (1 / variance); (0, 0) before enough data.
+  std::pair<double, double> lossFit() const;
   /// \brief Mean residual of theta_hat over the last detection window [rad].
   double residual() const { return rho_; }
   /// \brief Current trigger threshold max(threshold, noise_factor * noise) [rad].
@@ -58,13 +73,25 @@ class RobustPreadaptation : public PreadaptationStrategy {
   void decide(Vec* theta_hat, Event* ev);
   /// Add the chunk of the last Lc samples to the regime's statistics.
   void addChunk(Mat* G, Vec* h, double* c, int j0, int len) const;
-  /// Noise standard deviation of one chunk sum [rad s].
+  /// sum over `len` samples from j0 ago of v = -u dt - K^T phi: with the plant applying
+  /// Lambda u, y = (theta + nu K)^T phi + nu v, nu = 1 - Lambda.
+  double chunkV(int j0, int len) const;
+  /// The loss a remembered entry carries into its recall: 0 unless `significance` from 0.
+  double entryLoss(const RegimeEntry& e) const;
+  /// Start (start_k >= 0: with the blocks from sample start_k on) or stop the loss fit.
+  void lossReset(std::int64_t start_k);
+  /// One sample for the loss fit: blocks between flips of the excitation.
+  void lossSample(double t_prev, const Vec& phi, double y, double u_prev);
+  /// Half-period of the excitation that time t falls in.
+  std::int64_t excitationHalf(
+      double t) const;  /// Noise standard deviation of one chunk sum [rad s].
   double chunkSigma() const;
   RegimeMemory memory();
   /// Window lengths in samples and the ring's capacity from rc_.
   void sizeWindows();
 
   RobustConfig rc_;
+  Vec K_;
   bool projection_;
   double theta_max_, dt_;
   Mat A_;
@@ -98,6 +125,24 @@ class RobustPreadaptation : public PreadaptationStrategy {
   Vec hr_, prior_;
   double cr_ = 0.0;
   std::int64_t next_chunk_k_ = 0;
+  // The regime's sum v Phi (chunkV), and the loss its fit aims with (the recalled entry's).
+  Vec hvr_;
+  double nu_regime_ = 0.0, nu_decided_ = 0.0;
+  // The loss fit: blocks of samples between flips of the excitation, each (Phi, Y, v, D) with
+  // D the excitation's integral; instruments z = (Phi, D), regressors (Phi, v). A block is
+  // added when the next one closes, so a block the switch reached is never in the fit.
+  struct LossBlock {
+    Vec phi;
+    double y = 0.0, v = 0.0, d = 0.0;
+    std::int64_t start_k = 0;
+  };
+  LossBlock block_, pending_block_;
+  bool pending_ = false;
+  std::int64_t loss_start_k_ = -1, block_half_ = 0;
+  double t_prev_ = 0.0;
+  int loss_blocks_ = 0;
+  Mat ZX_, ZZ_;
+  Vec ZY_;
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };

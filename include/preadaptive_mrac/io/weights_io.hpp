@@ -18,8 +18,10 @@ class WeightsError : public std::runtime_error {
 };
 
 /// \brief Current format version written by saveWeights. Version 2 adds `regimes:` (the
-/// memory of pa_robust); version 1 files (no regimes) still load, with an empty memory.
-constexpr int kWeightsFormatVersion = 2;
+/// memory of pa_robust); version 3 each regime's loss of elevator effectiveness (`loss`,
+/// `loss_info`). Version 1 files (no regimes) still load, with an empty memory; version 2
+/// files with no loss identified.
+constexpr int kWeightsFormatVersion = 3;
 
 /// \brief Text of a weights file (17 significant digits, so a load gives identical weights).
 std::string weightsToYaml(const NetworkState& s);
