@@ -12,7 +12,7 @@ void IdentificationWindow::resize(int capacity, int long_len, Eigen::Index n) {
   phi_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
   th_.assign(static_cast<size_t>(cap_), Vec::Zero(n));
   y_.assign(static_cast<size_t>(cap_), 0.0);
-  u_.assign(static_cast<size_t>(cap_), 0.0);
+  v_.assign(static_cast<size_t>(cap_), 0.0);
   phi_long_.setZero(n);
   clear();
 }
@@ -25,7 +25,7 @@ void IdentificationWindow::clear() {
   since_refresh_ = 0;
 }
 
-void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat, double u) {
+void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat, double v) {
   if (long_ > 0 && count_ >= long_) {  // the sample leaving the long window
     subtractFrom(phi_[static_cast<size_t>(at(long_ - 1))], &phi_long_);
     y_long_ -= y_[static_cast<size_t>(at(long_ - 1))];
@@ -33,7 +33,7 @@ void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat, 
   head_ = (head_ + 1) % cap_;
   copyTo(phi, &phi_[static_cast<size_t>(head_)]);
   y_[static_cast<size_t>(head_)] = y;
-  u_[static_cast<size_t>(head_)] = u;
+  v_[static_cast<size_t>(head_)] = v;
   copyTo(theta_hat, &th_[static_cast<size_t>(head_)]);
   count_ = std::min(count_ + 1, cap_);
   if (long_ > 0) {
@@ -76,6 +76,12 @@ void IdentificationWindow::sums(int j0, int len, Vec* phi, double* y) const {
     *phi += phi_[static_cast<size_t>(at(j))];
     *y += y_[static_cast<size_t>(at(j))];
   }
+}
+
+double IdentificationWindow::vSum(int j0, int len) const {
+  double v = 0.0;
+  for (int j = j0; j < j0 + len; ++j) v += v_[static_cast<size_t>(at(j))];
+  return v;
 }
 
 }  // namespace preadaptive_mrac

@@ -36,7 +36,7 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
   theta_net_.setZero(n);
   Gr_.setZero(n, n);
   hr_.setZero(n);
-  hvr_.setZero(n);
+  regime_v_.hv.setZero(n);
   prior_.setZero(n);
   block_.phi.setZero(n);
   pending_block_.phi.setZero(n);
@@ -130,7 +130,7 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   (void)attention;
   const Vec& x = *s.x;
   Vec phi_k, d;
-  double y_k = 0.0;
+  double y_k = 0.0, v_k = 0.0;
   const bool sample = have_prev_;
   if (have_prev_) {
     if (fastThree(x.size())) {
@@ -144,12 +144,13 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
       phi_k = dt_ * xm;
     }
     y_k = dotOf(B_, d) / bb_;
-    win_.push(phi_k, y_k, theta_hat, s.u_prev);
+    v_k = -s.u_prev * dt_ - K_.dot(phi_k);
+    win_.push(phi_k, y_k, theta_hat, v_k);
   }
   copyTo(x, &x_prev_);
   have_prev_ = true;
   ++k_;
-  if (sample) lossSample(t_prev_, phi_k, y_k, s.u_prev);
+  if (sample) lossSample(t_prev_, phi_k, y_k, v_k);
   t_prev_ = s.t;
   if (win_.count() < Ld_) return Detection::kNone;
 
@@ -282,14 +283,11 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
     hr_.setZero();
     cr_ = 0.0;
     const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
-    hvr_.setZero();
+    regime_v_ = LossSums();
+    regime_v_.hv.setZero(B_.size());
     for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
       const int len = std::min(Lc_, j0 + 1);
-      addChunk(&Gr_, &hr_, &cr_, j0 - len + 1, len);
-      Vec Phi;
-      double Y = 0.0;
-      win_.sums(j0 - len + 1, len, &Phi, &Y);
-      hvr_ += chunkV(j0 - len + 1, len) * Phi;
+      addChunk(&Gr_, &hr_, &cr_, j0 - len + 1, len, &regime_v_);
     }
     // The regime's fit aims with the loss the last decision used (a recalled entry's).
     nu_regime_ = nu_decided_;
@@ -299,13 +297,20 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
   }
 }
 
-void RobustPreadaptation::addChunk(Mat* G, Vec* h, double* c, int j0, int len) const {
+void RobustPreadaptation::addChunk(Mat* G, Vec* h, double* c, int j0, int len, LossSums* ls) const {
   Vec Phi;
   double Y = 0.0;
   win_.sums(j0, len, &Phi, &Y);
   G->noalias() += Phi * Phi.transpose();
   *h += Y * Phi;
   *c += Y * Y;
+  if (ls != nullptr) {
+    const double V = win_.vSum(j0, len);
+    ls->hv += V * Phi;
+    ls->yv += Y * V;
+    ls->vv += V * V;
+    ls->v += V;
+  }
 }
 
 double RobustPreadaptation::chunkSigma() const {
@@ -317,17 +322,11 @@ double RobustPreadaptation::chunkSigma() const {
 bool RobustPreadaptation::refine(Vec* theta_hat) {
   if (!regime_fit_ || verifying_ || k_ < next_chunk_k_) return false;
   next_chunk_k_ += Lc_;
-  addChunk(&Gr_, &hr_, &cr_, 0, Lc_);
-  if (nu_regime_ > 0.0) {
-    Vec Phi;
-    double Y = 0.0;
-    win_.sums(0, Lc_, &Phi, &Y);
-    hvr_ += chunkV(0, Lc_) * Phi;
-  }
+  addChunk(&Gr_, &hr_, &cr_, 0, Lc_, nu_regime_ > 0.0 ? &regime_v_ : nullptr);
   // With a loss nu the data reads y = (1 - nu) th^T phi + nu (theta_rec^T phi + ...) for the
   // loop's fixed point th: the fit aims at th through (Y - nu v) / (1 - nu).
   const double nu = nu_regime_;
-  const Vec h_fix = nu > 0.0 ? Vec((hr_ - nu * hvr_) / (1.0 - nu)) : hr_;
+  const Vec h_fix = nu > 0.0 ? Vec((hr_ - nu * regime_v_.hv) / (1.0 - nu)) : hr_;
   // Bayesian least squares of the regime's data around the prior (the decision's estimate):
   // excited directions follow the data, unexcited ones stay at the prior.
   const double sigma = chunkSigma();
@@ -357,7 +356,7 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
     } else {
       win_.sums(0, len, &phi, &y);
     }
-    if (nu > 0.0) y = (y - nu * chunkV(0, len)) / (1.0 - nu);
+    if (nu > 0.0) y = (y - nu * win_.vSum(0, len)) / (1.0 - nu);
     const double pp = phi.squaredNorm();
     if (pp > 0.0) {
       const double r0 = y - theta_hat->dot(phi);
@@ -372,20 +371,8 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
 
 void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   const int n = static_cast<int>(B_.size());
-  // Post-change data in chunks: G = sum Phi Phi^T, h = sum Phi Y, c = sum Y^2, so that the
-  // identification error of any theta is J = c - 2 theta^T h + theta^T G theta.
-  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
-  Mat G = Mat::Zero(n, n);
-  Vec h = Vec::Zero(n);
-  double c = 0.0;
-  int chunks = 0;
-  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_, ++chunks) {
-    const int len = std::min(Lc_, j0 + 1);
-    addChunk(&G, &h, &c, j0 - len + 1, len);
-  }
-  auto J = [&](const Vec& th) { return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th)); };
   // A remembered regime with a loss nu is judged by the data it predicts while theta_hat is
-  // still elsewhere: for the loop's fixed point th, y = (1 - nu) th^T phi + nu v (chunkV).
+  // still elsewhere: for the loop's fixed point th, y = (1 - nu) th^T phi + nu V (LossSums).
   RegimeMemory mem = memory();
   std::vector<double> loss(static_cast<size_t>(mem.size()), 0.0);
   bool any_loss = false;
@@ -393,27 +380,26 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
     loss[static_cast<size_t>(i)] = entryLoss(mem.at(i));
     any_loss = any_loss || loss[static_cast<size_t>(i)] > 0.0;
   }
-  Vec hv = Vec::Zero(n);
-  double syv = 0.0, svv = 0.0, v_tot = 0.0;
-  if (any_loss) {
-    for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
-      const int len = std::min(Lc_, j0 + 1);
-      Vec Phi;
-      double Y = 0.0;
-      win_.sums(j0 - len + 1, len, &Phi, &Y);
-      const double V = chunkV(j0 - len + 1, len);
-      hv += V * Phi;
-      syv += Y * V;
-      svv += V * V;
-      v_tot += V;
-    }
+  // Post-change data in chunks: G = sum Phi Phi^T, h = sum Phi Y, c = sum Y^2, so that the
+  // identification error of any theta is J = c - 2 theta^T h + theta^T G theta.
+  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
+  Mat G = Mat::Zero(n, n);
+  Vec h = Vec::Zero(n);
+  double c = 0.0;
+  LossSums ls;
+  ls.hv.setZero(n);
+  int chunks = 0;
+  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_, ++chunks) {
+    const int len = std::min(Lc_, j0 + 1);
+    addChunk(&G, &h, &c, j0 - len + 1, len, any_loss ? &ls : nullptr);
   }
+  auto J = [&](const Vec& th) { return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th)); };
   // sum (Y - (1 - nu) th^T Phi - nu V)^2 = J(th) - 2 nu sum (Y - th^T Phi)(V - th^T Phi) + nu^2
   // sum (V - th^T Phi)^2.
   auto Jnu = [&](const Vec& th, double nu) {
     if (nu <= 0.0) return J(th);
-    const double rw = syv - th.dot(hv) - th.dot(h) + th.dot(G * th);
-    const double ww = svv - 2.0 * th.dot(hv) + th.dot(G * th);
+    const double rw = ls.yv - th.dot(ls.hv) - th.dot(h) + th.dot(G * th);
+    const double ww = ls.vv - 2.0 * th.dot(ls.hv) + th.dot(G * th);
     return std::max(0.0, J(th) - 2.0 * nu * rw + nu * nu * ww);
   };
   double nu_chosen = 0.0;
@@ -464,7 +450,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
       sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(G.trace(), 0.0);
   for (int i = 0; i < n; ++i) Gr(i, i) += lambda;
   // With a recalled loss the fit and the mean below aim at the fixed point: (Y - nu V) / (1 - nu).
-  const Vec h_fix = nu_chosen > 0.0 ? Vec((h - nu_chosen * hv) / (1.0 - nu_chosen)) : h;
+  const Vec h_fix = nu_chosen > 0.0 ? Vec((h - nu_chosen * ls.hv) / (1.0 - nu_chosen)) : h;
   Vec fitted = base + Gr.ldlt().solve(h_fix - G * base);
   const double j_fit = Jnu(fitted, nu_chosen);
   // The fit moves the base only when the base's mean mismatch over all post-change data,
@@ -474,7 +460,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   Vec phi_tot;
   double y_tot = 0.0;
   win_.sums(0, m, &phi_tot, &y_tot);
-  if (nu_chosen > 0.0) y_tot = (y_tot - nu_chosen * v_tot) / (1.0 - nu_chosen);
+  if (nu_chosen > 0.0) y_tot = (y_tot - nu_chosen * ls.v) / (1.0 - nu_chosen);
   nu_decided_ = nu_chosen;
   if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best) {
     if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
@@ -516,15 +502,6 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   ev->score_keep = std::sqrt(j_keep) * norm;
 }
 
-double RobustPreadaptation::chunkV(int j0, int len) const {
-  double v = 0.0;
-  for (int j = j0; j < j0 + len; ++j) {
-    const int i = win_.at(j);
-    v += -win_.u(i) * dt_ - K_.dot(win_.phi(i));
-  }
-  return v;
-}
-
 double RobustPreadaptation::entryLoss(const RegimeEntry& e) const {
   // Only a loss `significance` (3 sigma) from 0; an elevator more effective than modelled
   // (nu < 0) is not used.
@@ -552,7 +529,7 @@ void RobustPreadaptation::lossReset(std::int64_t start_k) {
   loss_blocks_ = 0;
 }
 
-void RobustPreadaptation::lossSample(double t_prev, const Vec& phi, double y, double u_prev) {
+void RobustPreadaptation::lossSample(double t_prev, const Vec& phi, double y, double v) {
   if (rc_.excitation <= 0.0 || rc_.loss_max <= 0.0) return;
   // The sample covers [t_prev, t_k]: the command there carried excitation(t_prev).
   const std::int64_t half = excitationHalf(t_prev);
@@ -576,7 +553,7 @@ void RobustPreadaptation::lossSample(double t_prev, const Vec& phi, double y, do
   }
   block_.phi += phi;
   block_.y += y;
-  block_.v += -u_prev * dt_ - K_.dot(phi);
+  block_.v += v;
   block_.d += excitation(t_prev) * dt_;
 }
 

@@ -71,17 +71,22 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// \brief For n = 3: phi = dt x_mid and the input-equivalent residual d of the last step.
   void residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi, Vec* d) const;
   void decide(Vec* theta_hat, Event* ev);
-  /// Add the chunk of the last Lc samples to the regime's statistics.
-  void addChunk(Mat* G, Vec* h, double* c, int j0, int len) const;
-  /// sum over `len` samples from j0 ago of v = -u dt - K^T phi: with the plant applying
-  /// Lambda u, y = (theta + nu K)^T phi + nu v, nu = 1 - Lambda.
-  double chunkV(int j0, int len) const;
+  /// Sums over chunks of the loss regressor V (the chunk's sum of v = -u dt - K^T phi; with
+  /// the plant applying Lambda u, y = (theta + nu K)^T phi + nu v, nu = 1 - Lambda): V Phi,
+  /// Y V, V V and V.
+  struct LossSums {
+    Vec hv;
+    double yv = 0.0, vv = 0.0, v = 0.0;
+  };
+  /// Add the chunk of `len` samples from j0 ago to G = sum Phi Phi^T, h = sum Phi Y,
+  /// c = sum Y^2, and, when given, to the loss regressor's sums.
+  void addChunk(Mat* G, Vec* h, double* c, int j0, int len, LossSums* ls = nullptr) const;
   /// The loss a remembered entry carries into its recall: 0 unless `significance` from 0.
   double entryLoss(const RegimeEntry& e) const;
   /// Start (start_k >= 0: with the blocks from sample start_k on) or stop the loss fit.
   void lossReset(std::int64_t start_k);
   /// One sample for the loss fit: blocks between flips of the excitation.
-  void lossSample(double t_prev, const Vec& phi, double y, double u_prev);
+  void lossSample(double t_prev, const Vec& phi, double y, double v);
   /// Half-period of the excitation that time t falls in.
   std::int64_t excitationHalf(
       double t) const;  /// Noise standard deviation of one chunk sum [rad s].
@@ -125,8 +130,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
   Vec hr_, prior_;
   double cr_ = 0.0;
   std::int64_t next_chunk_k_ = 0;
-  // The regime's sum v Phi (chunkV), and the loss its fit aims with (the recalled entry's).
-  Vec hvr_;
+  // The regime's loss regressor sums, and the loss its fit aims with (the recalled entry's).
+  LossSums regime_v_;
   double nu_regime_ = 0.0, nu_decided_ = 0.0;
   // The loss fit: blocks of samples between flips of the excitation, each (Phi, Y, v, D) with
   // D the excitation's integral; instruments z = (Phi, D), regressors (Phi, v). A block is
