@@ -33,13 +33,19 @@ def signal_node(node, sig, timeout, what):
     uri = rosnode.get_api_uri(rosgraph.Master(caller), node)
     pid = xmlrpc.client.ServerProxy(uri).getPid(caller)[2]
     os.kill(pid, sig)
-    wait_for(
-        lambda: not os.path.exists("/proc/%d" % pid)
-        or open("/proc/%d/stat" % pid).read().split()[2] == "Z",
-        timeout,
-        what,
-    )
+    wait_for(lambda: _exited(pid), timeout, what)
     return pid
+
+
+def _exited(pid):
+    """True when process pid is gone or a zombie. Reading its stat file is the one check: the
+    process can be reaped between a test for the file and the read (a race that raised
+    FileNotFoundError instead of answering 'gone')."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            return f.read().split()[2] == "Z"
+    except (FileNotFoundError, ProcessLookupError):
+        return True
 
 
 def subscribe_loop(test):
