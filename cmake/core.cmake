@@ -22,36 +22,36 @@ endmacro()
 
 # The core: Eigen + STL only. Nothing here may include a ROS header.
 pmrac_library(preadaptive_mrac_core
-  src/core/params.cpp
-  src/core/param_table.cpp
+  src/core/schema/params.cpp
+  src/core/schema/param_table.cpp
   src/core/solvers.cpp
-  src/core/plant.cpp
-  src/core/actuator.cpp
-  src/core/turbulence.cpp
-  src/core/scenario_plant.cpp
-  src/core/scenario.cpp
-  src/core/network.cpp
-  src/core/controller_config.cpp
-  src/core/robust_config.cpp
-  src/core/event.cpp
-  src/core/velocity_estimator.cpp
-  src/core/attention.cpp
-  src/core/sensitivity_tracker.cpp
-  src/core/mrac_law.cpp
-  src/core/mode_registry.cpp
-  src/core/controller.cpp
-  src/core/l1_config.cpp
-  src/core/l1_law.cpp
-  src/core/paper_preadaptation.cpp
-  src/core/oracle_preadaptation.cpp
-  src/core/identification_window.cpp
-  src/core/robust_preadaptation.cpp
-  src/core/regime_memory.cpp
+  src/core/sim/plant.cpp
+  src/core/sim/actuator.cpp
+  src/core/sim/turbulence.cpp
+  src/core/sim/scenario_plant.cpp
+  src/core/sim/scenario.cpp
+  src/core/control/network.cpp
+  src/core/control/controller_config.cpp
+  src/core/robust/robust_config.cpp
+  src/core/control/event.cpp
+  src/core/control/velocity_estimator.cpp
+  src/core/control/attention.cpp
+  src/core/control/sensitivity_tracker.cpp
+  src/core/control/mrac_law.cpp
+  src/core/control/mode_registry.cpp
+  src/core/control/controller.cpp
+  src/core/control/l1_config.cpp
+  src/core/control/l1_law.cpp
+  src/core/control/paper_preadaptation.cpp
+  src/core/control/oracle_preadaptation.cpp
+  src/core/robust/identification_window.cpp
+  src/core/robust/robust_preadaptation.cpp
+  src/core/robust/regime_memory.cpp
   src/core/closed_loop.cpp
   src/core/margins.cpp
-  src/core/scenario_family.cpp
-  src/core/input_guard.cpp
-  src/core/tunables.cpp)
+  src/core/sim/scenario_family.cpp
+  src/core/control/input_guard.cpp
+  src/core/control/tunables.cpp)
 
 # io: YAML files, weights files, run set-up and JSON/CSV output (yaml-cpp, no ROS).
 pmrac_library(preadaptive_mrac_io

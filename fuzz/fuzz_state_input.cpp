@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "preadaptive_mrac/core/input_guard.hpp"
+#include "preadaptive_mrac/core/control/input_guard.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 

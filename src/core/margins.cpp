@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "preadaptive_mrac/core/actuator.hpp"
+#include "preadaptive_mrac/core/sim/actuator.hpp"
 
 namespace preadaptive_mrac {
 

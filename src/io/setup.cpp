@@ -10,7 +10,7 @@
 #include <memory>
 #include <sstream>
 
-#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/core/control/mode_registry.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 namespace preadaptive_mrac {

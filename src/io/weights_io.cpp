@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 namespace preadaptive_mrac {

@@ -5,7 +5,8 @@ params/<component>.yaml, a header preadaptive_mrac/params/<component>_params.hpp
   `structs`, of the rows naming that node; the plant's and scenario's: one per row `struct`,
   of the rows naming it), each member with its default and doc;
 - `forEachScalar(self, f)`: f(ParamSpec, member) for every number, bool, string and choice the
-  generic reader reads (core/param_table.hpp: readScalars, checkRanges), in the table's order;
+  generic reader reads (core/schema/param_table.hpp: readScalars, checkRanges), in the table's
+  order;
 - `forEachSection(f)`: f(key, absent_note) for every optional section; for a node's struct
   `forEachKey(f)`, every key it has (the unknown-key check);
 - per `choices` type: the enum (unless `enum_header` declares it), parseChoice, choiceName,
@@ -336,7 +337,7 @@ def header(component):
     includes = ['<cstdint>', '<string>']
     if any(t.startswith('std::vector') for t in types):
         includes.append('<vector>')
-    includes.append('"preadaptive_mrac/core/param_spec.hpp"')
+    includes.append('"preadaptive_mrac/core/schema/param_spec.hpp"')
     if any(t.startswith('Eigen::') for t in types):
         includes.append('"preadaptive_mrac/core/types.hpp"')
     for r in table['params']:

@@ -1,6 +1,6 @@
 #include "preadaptive_mrac/ros/controller_reconfigure.hpp"
 
-#include "preadaptive_mrac/core/tunables.hpp"
+#include "preadaptive_mrac/core/control/tunables.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {

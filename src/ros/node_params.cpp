@@ -5,7 +5,7 @@
 #include <initializer_list>
 #include <set>
 
-#include "preadaptive_mrac/core/param_table.hpp"
+#include "preadaptive_mrac/core/schema/param_table.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "preadaptive_mrac/ros/publisher_guard.hpp"
 

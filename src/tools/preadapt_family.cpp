@@ -15,8 +15,8 @@
 #include <thread>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
-#include "preadaptive_mrac/core/scenario_family.hpp"
+#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/sim/scenario_family.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 using namespace preadaptive_mrac;

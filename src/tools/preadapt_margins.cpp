@@ -9,8 +9,8 @@
 #include <string>
 
 #include "cli_common.hpp"
+#include "preadaptive_mrac/core/control/mode_registry.hpp"
 #include "preadaptive_mrac/core/margins.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
 
 using namespace preadaptive_mrac;
 

@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/core/control/mode_registry.hpp"
 
 using namespace preadaptive_mrac;
 

@@ -7,8 +7,8 @@
 #include <iterator>
 #include <sstream>
 
-#include "preadaptive_mrac/core/controller.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
+#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/control/mode_registry.hpp"
 #include "preadaptive_mrac/params/modes_params.hpp"
 #include "test_helpers.hpp"
 

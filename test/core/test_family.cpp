@@ -5,7 +5,7 @@
 #include <cmath>
 #include <map>
 
-#include "preadaptive_mrac/core/scenario_family.hpp"
+#include "preadaptive_mrac/core/sim/scenario_family.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 

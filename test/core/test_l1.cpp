@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "preadaptive_mrac/core/l1_law.hpp"
-#include "preadaptive_mrac/core/mode_registry.hpp"
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/control/l1_law.hpp"
+#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 #include "test_helpers.hpp"
 
 using namespace preadaptive_mrac;

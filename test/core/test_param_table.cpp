@@ -9,9 +9,9 @@
 #include <set>
 #include <string>
 
-#include "preadaptive_mrac/core/controller_config.hpp"
-#include "preadaptive_mrac/core/params.hpp"
-#include "preadaptive_mrac/core/tunables.hpp"
+#include "preadaptive_mrac/core/control/controller_config.hpp"
+#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 namespace preadaptive_mrac {

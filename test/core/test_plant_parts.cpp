@@ -8,10 +8,10 @@
 #include <complex>
 #include <vector>
 
-#include "preadaptive_mrac/core/actuator.hpp"
-#include "preadaptive_mrac/core/param_table.hpp"
-#include "preadaptive_mrac/core/scenario_plant.hpp"
-#include "preadaptive_mrac/core/turbulence.hpp"
+#include "preadaptive_mrac/core/schema/param_table.hpp"
+#include "preadaptive_mrac/core/sim/actuator.hpp"
+#include "preadaptive_mrac/core/sim/scenario_plant.hpp"
+#include "preadaptive_mrac/core/sim/turbulence.hpp"
 #include "test_helpers.hpp"
 
 using namespace preadaptive_mrac;

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/regime_memory.hpp"
-#include "preadaptive_mrac/core/scenario_family.hpp"
+#include "preadaptive_mrac/core/robust/regime_memory.hpp"
+#include "preadaptive_mrac/core/sim/scenario_family.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "test_helpers.hpp"
 

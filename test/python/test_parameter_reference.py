@@ -103,16 +103,16 @@ def config_code_suffixes():
     """The dotted suffixes the config readers put after a section prefix (".lqr.Q", ".std")."""
     out = set()
     for rel in (
-        'src/core/controller.cpp',
-        'src/core/controller_config.cpp',
-        'src/core/plant.cpp',
-        'src/core/scenario.cpp',
+        'src/core/control/controller.cpp',
+        'src/core/control/controller_config.cpp',
+        'src/core/sim/plant.cpp',
+        'src/core/sim/scenario.cpp',
     ):
         out |= set(re.findall(r'"\.([a-zA-Z_][\w.]*)"', read(rel)))
     # The scalars the plant and scenario read through the generic reader: the keys (and their
     # sections) of each struct generated from their tables that the reader reads.
     for component in ('plant', 'scenario'):
-        text = read('src/core/%s.cpp' % component)
+        text = read('src/core/sim/%s.cpp' % component)
         for name, rows in params_codegen.structs(params_table.load_own(component)):
             if 'static_cast<%s*>' % name not in text:
                 continue

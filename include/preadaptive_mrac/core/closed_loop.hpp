@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/controller.hpp"
-#include "preadaptive_mrac/core/plant.hpp"
-#include "preadaptive_mrac/core/scenario.hpp"
-#include "preadaptive_mrac/core/scenario_plant.hpp"
+#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/sim/plant.hpp"
+#include "preadaptive_mrac/core/sim/scenario.hpp"
+#include "preadaptive_mrac/core/sim/scenario_plant.hpp"
 
 namespace preadaptive_mrac {
 

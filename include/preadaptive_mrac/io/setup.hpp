@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/controller.hpp"
-#include "preadaptive_mrac/core/params.hpp"
-#include "preadaptive_mrac/core/plant.hpp"
-#include "preadaptive_mrac/core/scenario.hpp"
+#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
+#include "preadaptive_mrac/core/sim/plant.hpp"
+#include "preadaptive_mrac/core/sim/scenario.hpp"
 
 namespace preadaptive_mrac {
 

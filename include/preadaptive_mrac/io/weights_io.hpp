@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "preadaptive_mrac/core/network.hpp"
+#include "preadaptive_mrac/core/control/network.hpp"
 
 namespace preadaptive_mrac {
 

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 
 namespace preadaptive_mrac {
 

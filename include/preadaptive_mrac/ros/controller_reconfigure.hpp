@@ -13,8 +13,8 @@
 
 #include "preadaptive_mrac/ControllerTuningConfig.h"
 #include "preadaptive_mrac/ParamChange.h"
-#include "preadaptive_mrac/core/controller.hpp"
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
 #include "preadaptive_mrac/ros/publisher_guard.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"

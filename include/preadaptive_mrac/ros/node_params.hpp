@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/input_guard.hpp"
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/control/input_guard.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/params/nodes_params.hpp"
 

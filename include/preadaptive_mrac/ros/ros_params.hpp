@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/params.hpp"
+#include "preadaptive_mrac/core/schema/params.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {

@@ -1,0 +1,57 @@
+#pragma once
+/// \file adaptive_law.hpp
+/// \brief The adaptive-law seam: what the controller asks of an adaptive law (MRAC today,
+/// mrac_law.hpp). A law owns its estimate theta_hat, its control term u_ad and its update.
+///
+/// Adding a law (docs/design.md, "Adding a part"):
+///   1. a class implementing AdaptiveLaw in core/<name>_law.{hpp,cpp}, with its own config
+///      section read and validated by itself;
+///   2. a factory `std::unique_ptr<AdaptiveLaw> make<Name>Law(const ModeContext&)`;
+///   3. one row in kModes of src/core/control/mode_registry.cpp naming the mode, the law's factory
+///   and
+///      the strategy's factory. The mode's name then reaches the CLI, sweeps, families, nodes,
+///      validation messages and the Python package (mode_registry.hpp).
+/// The controller keeps the baseline -K x, the reference model, the velocity estimator, the
+/// attention and the actuator limits; the law sees x_k, e_v = x_k - x_r and r_k.
+
+#include <memory>
+
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+struct ControllerConfig;
+
+/// \brief What a law sees of one sample t_k.
+struct LawInput {
+  const Vec* x = nullptr;   ///< measured state x_k
+  const Vec* ev = nullptr;  ///< e_v = x_k - x_r(t_k)
+  double r = 0.0;           ///< command r(t_k) [rad]
+};
+
+/// \brief An adaptive law: u = u_bl + command(), then advance() to t_{k+1}.
+class AdaptiveLaw {
+ public:
+  virtual ~AdaptiveLaw() = default;
+  /// \brief A copy with the same state (Controller's copy).
+  virtual std::unique_ptr<AdaptiveLaw> clone() const = 0;
+  /// \brief Back to the initial estimate and state.
+  virtual void reset() = 0;
+  /// \brief The estimate theta_hat used for the command at this sample.
+  virtual const Vec& estimate() const = 0;
+  /// \brief The estimate for a strategy to overwrite (a preadaptation reset, a refinement); the
+  /// controller calls constrain() after such a change when the strategy asks for it.
+  virtual Vec* mutableEstimate() = 0;
+  /// \brief Bring an estimate changed from outside back into the law's admissible set (the
+  /// projection's ball when projection is on). Default: nothing to keep.
+  virtual void constrain() {}
+  /// \brief The adaptive control term u_ad [rad] at this sample.
+  virtual double command(const LawInput& in) const = 0;
+  /// \brief Advance the estimate (and any state of the law) to t_{k+1}; `adapt` false freezes
+  /// the estimate over this sample (the elevator was at a limit).
+  virtual void advance(const LawInput& in, bool adapt) = 0;
+  /// \brief New tunables between two samples; `cfg` is the whole configuration with them.
+  virtual void setTunables(const ControllerConfig& cfg) { (void)cfg; }
+};
+
+}  // namespace preadaptive_mrac

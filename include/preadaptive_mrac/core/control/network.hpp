@@ -1,0 +1,54 @@
+#pragma once
+/// \file network.hpp
+/// \brief Preadaptation function theta_hat_I = W^T sigma(V^T z), z = [e, |e_dot_est|]
+/// (section "Preadaptation Function"), with its gradients (eqs. der-E-Wpa, der-E-Vpa).
+
+#include <cstdint>
+#include <vector>
+
+#include "preadaptive_mrac/core/robust/regime_memory.hpp"
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+/// \brief Everything that defines a network: what the weights file holds.
+struct NetworkState {
+  NetV V;                     ///< input weights (2 x h)
+  NetW W;                     ///< output weights (h x n)
+  std::uint64_t seed = 0;     ///< seed of the initial weights
+  double init_scale = 0.0;    ///< initial weights drawn uniform in [-scale, scale]
+  std::int64_t episodes = 0;  ///< learning episodes applied so far
+  /// Regimes remembered by pa_robust (saved with the weights, so a second run of the same
+  /// plant starts with its memory); empty for the paper's modes.
+  std::vector<RegimeEntry> regimes;
+  int hidden() const { return static_cast<int>(V.cols()); }
+  int outputs() const { return static_cast<int>(W.cols()); }
+};
+
+/// \brief Two-layer network without biases, logistic hidden layer (the paper's choice).
+class PreadaptNetwork {
+ public:
+  PreadaptNetwork() = default;
+  /// \brief Random weights, uniform in [-scale, scale], from a mt19937_64 seeded with `seed`
+  /// (bit-for-bit the same on every platform).
+  PreadaptNetwork(int hidden, int outputs, std::uint64_t seed, double scale);
+  explicit PreadaptNetwork(const NetworkState& s) : s_(s) {}
+
+  /// \brief theta_hat_I for input z; the hidden activations go to *hidden when given.
+  void forward(const NetInput& z, Vec* theta_I, HiddenVec* hidden = nullptr) const;
+  /// \brief dE/dW (h x n) and dE/dV (2 x h) at input z for g = dE/dtheta_hat_I.
+  void gradients(const NetInput& z, const Vec& g, NetW* dW, NetV* dV) const;
+  /// \brief One learning step: W -= rate dE/dW, V -= rate dE/dV (eq. learn-alg-pap);
+  /// both gradients use the weights before the step.
+  void learn(const NetInput& z, const Vec& g, double rate);
+
+  const NetworkState& state() const { return s_; }
+  NetworkState& state() { return s_; }
+  int hidden() const { return s_.hidden(); }
+  int outputs() const { return s_.outputs(); }
+
+ private:
+  NetworkState s_;
+};
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,159 @@
+#pragma once
+/// \file robust_preadaptation.hpp
+/// \brief `pa_robust`: preadaptation that detects a switch from the identification residual,
+/// predicts theta from a bounded memory of regimes (and the network), and verifies every
+/// candidate against the measured data before it moves theta_hat (docs/robust.md).
+///
+/// Identification data, one pair per sample (integral form, no differentiation of x):
+///   phi_k = dt (x_{k-1} + x_k) / 2,
+///   y_k   = B^T [x_k - x_{k-1} - dt (A (x_{k-1} + x_k) / 2 + B u_{k-1} + B1r r_{k-1})] / B^T B,
+/// so that y_k = theta^T phi_k up to O(dt^3) while theta is constant (eq. plant). The residual
+/// of an estimate over a window is sum (y - theta_hat^T phi) / T [rad, input-equivalent].
+///
+/// A loss of elevator effectiveness (the plant applies Lambda u) makes the data read
+/// y = theta^T phi + (Lambda - 1) u dt instead. A square-wave excitation on the command
+/// (`excitation`) identifies nu = 1 - Lambda per regime (instrumental variables, the excitation
+/// as the instrument); a remembered regime carries its nu into its recall, the fit and
+/// concurrent learning, which then aim at the loop's fixed point (docs/robust.md).
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "preadaptive_mrac/core/control/controller_config.hpp"
+#include "preadaptive_mrac/core/control/event.hpp"
+#include "preadaptive_mrac/core/control/network.hpp"
+#include "preadaptive_mrac/core/control/preadaptation.hpp"
+#include "preadaptive_mrac/core/robust/identification_window.hpp"
+#include "preadaptive_mrac/core/robust/regime_memory.hpp"
+#include "preadaptive_mrac/core/sim/plant.hpp"
+
+namespace preadaptive_mrac {
+
+class RobustPreadaptation : public PreadaptationStrategy {
+ public:
+  /// \brief `K` is the baseline gain (u_baseline = -K^T x).
+  RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant, const Vec& K,
+                      PreadaptNetwork* net);
+  std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
+    auto c = std::make_unique<RobustPreadaptation>(*this);
+    c->net_ = net;
+    return c;
+  }
+  bool constrainsEvents() const override { return true; }
+  bool keepsAtRecovery() const override { return true; }
+  void reset() override;
+  Detection detect(const Sample& s, const Vec& theta_hat, Attention* attention) override;
+  void onOnset(const Sample& s, Vec* theta_hat, Event* ev) override;
+  void onDecision(const Sample& s, Vec* theta_hat, Event* ev) override;
+  void duringPhase(const Sample& s, double u, const Vec& theta_hat) override;
+  void onRecovery(const Sample& s, const Vec& theta_hat, Event* ev) override;
+  double phaseCost() const override { return phase_cost_; }
+  bool refine(Vec* theta_hat) override;
+  /// \brief Gains and thresholds take effect at once; a new detect_window, chunk or verify_time
+  /// re-sizes the data window and restarts identification (returns true), as a reset does.
+  bool setTunables(const ControllerConfig& cfg) override;
+  /// \brief The square wave +-`excitation` of period `excitation_period` at time t [rad].
+  double excitation(double t) const override;
+
+  /// \brief The loss of effectiveness nu = 1 - Lambda identified over the current regime so far
+  /// and its information (1 / variance); (0, 0) before enough data.
+  std::pair<double, double> lossFit() const;
+  /// \brief Mean residual of theta_hat over the last detection window [rad].
+  double residual() const { return rho_; }
+  /// \brief Current trigger threshold max(threshold, noise_factor * noise) [rad].
+  double triggerThreshold() const;
+  /// \brief Estimated standard deviation of the residual from noise alone [rad].
+  double noiseLevel() const { return dev_ / 1.1283791670955126; }
+
+ private:
+  struct Scores;
+  /// \brief For n = 3: phi = dt x_mid and the input-equivalent residual d of the last step.
+  void residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi, Vec* d) const;
+  void decide(Vec* theta_hat, Event* ev);
+  /// Sums over chunks of the loss regressor V (the chunk's sum of v = -u dt - K^T phi; with
+  /// the plant applying Lambda u, y = (theta + nu K)^T phi + nu v, nu = 1 - Lambda): V Phi,
+  /// Y V, V V and V.
+  struct LossSums {
+    Vec hv;
+    double yv = 0.0, vv = 0.0, v = 0.0;
+  };
+  /// Add the chunk of `len` samples from j0 ago to G = sum Phi Phi^T, h = sum Phi Y,
+  /// c = sum Y^2, and, when given, to the loss regressor's sums.
+  void addChunk(Mat* G, Vec* h, double* c, int j0, int len, LossSums* ls = nullptr) const;
+  /// The loss a remembered entry carries into its recall: 0 unless `significance` from 0.
+  double entryLoss(const RegimeEntry& e) const;
+  /// Start (start_k >= 0: with the blocks from sample start_k on) or stop the loss fit.
+  void lossReset(std::int64_t start_k);
+  /// One sample for the loss fit: blocks between flips of the excitation.
+  void lossSample(double t_prev, const Vec& phi, double y, double v);
+  /// Half-period of the excitation that time t falls in.
+  std::int64_t excitationHalf(
+      double t) const;  /// Noise standard deviation of one chunk sum [rad s].
+  double chunkSigma() const;
+  RegimeMemory memory();
+  /// Window lengths in samples and the ring's capacity from rc_.
+  void sizeWindows();
+
+  RobustConfig rc_;
+  Vec K_;
+  bool projection_;
+  double theta_max_, dt_;
+  Mat A_;
+  Vec B_, B1r_;
+  double bb_;
+  PreadaptNetwork* net_;
+  int Ld_, Lc_, Lv_, Lq_, Ls_, Ll_, cap_;
+  IdentificationWindow win_;  // the data: ring and long-window sums
+  double rho_long_ = 0.0;
+  bool long_trigger_ = false;
+  std::int64_t k_ = 0;
+  bool have_prev_ = false;
+  Vec x_prev_;
+  // Detection.
+  double rho_ = 0.0, dev_ = 0.0;
+  bool dev_init_ = false;
+  int noise_blocks_ = 0;
+  static constexpr int kMinNoiseBlocks = 16;
+  std::int64_t last_trigger_k_ = -1000000000;
+  // Phase.
+  bool verifying_ = false;
+  bool first_move_ = false;  ///< no decision since the onset has moved theta_hat yet
+  std::int64_t post_start_k_ = 0, verify_end_k_ = 0, next_decision_k_ = 0, regime_start_k_ = 0;
+  int quiet_ = 0;
+  Vec theta_keep_, theta_net_;
+  NetInput z_onset_ = NetInput::Zero();
+  // The regime since the last decision: chunk statistics (sum Phi Phi^T, sum Phi Y) and the
+  // prior of the concurrent-learning fit.
+  bool regime_fit_ = false;
+  Mat Gr_;
+  Vec hr_, prior_;
+  double cr_ = 0.0;
+  std::int64_t next_chunk_k_ = 0;
+  // The regime's loss regressor sums, and the loss its fit aims with (the recalled entry's).
+  LossSums regime_v_;
+  double nu_regime_ = 0.0, nu_decided_ = 0.0;
+  // The loss fit: blocks of samples between flips of the excitation, each (Phi, Y, v, D) with
+  // D the excitation's integral; instruments z = (Phi, D), regressors (Phi, v). A block is
+  // added when the next one closes, so a block the switch reached is never in the fit.
+  struct LossBlock {
+    Vec phi;
+    double y = 0.0, v = 0.0, d = 0.0;
+    std::int64_t start_k = 0;
+  };
+  LossBlock block_, pending_block_;
+  bool pending_ = false;
+  std::int64_t loss_start_k_ = -1, block_half_ = 0;
+  double t_prev_ = 0.0;
+  int loss_blocks_ = 0;
+  Mat ZX_, ZZ_;
+  Vec ZY_;
+  int recalled_ = -1;
+  double phase_cost_ = 0.0;
+};
+
+struct ModeContext;
+/// \brief The registry's factory (mode_registry.hpp).
+std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m);
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,84 @@
+#pragma once
+/// \file scenario_family.hpp
+/// \brief Random recurring-regime scenarios from a seed (docs/spec.md "Beyond the paper"): after a
+/// first segment at theta = 0.1 ones, the plant switches between a few fixed regimes, each
+/// visited at least twice. How a mode is judged against rac on such a family: family_report.
+
+#include <cstdint>
+#include <vector>
+
+#include "preadaptive_mrac/core/sim/scenario.hpp"
+
+namespace preadaptive_mrac {
+
+/// \brief Shape of a family.
+struct FamilySpec {
+  int n = 3;                    ///< state dimension (theta has n components)
+  int regimes = 3;              ///< distinct regimes
+  int segments = 10;            ///< segments after the first (>= 2 * regimes)
+  double first_duration = 5.0;  ///< the first segment at theta = first_scale ones [s]
+  double first_scale = 0.1;
+  double min_duration = 10.0, max_duration = 20.0;  ///< segment lengths [s], uniform
+  double min_scale = 0.5, max_scale = 10.0;         ///< regime scale s, log-uniform in [min, max]
+  double spread = 0.5;  ///< components s * (1 + spread * U[-1, 1]), so they differ
+  double r = 0.1;       ///< reference [rad]
+  /// Reference steps: when > 0, r takes a new value in [r_min, r_max] every so many seconds
+  /// (uniform in [ref_every / 2, 3 ref_every / 2]).
+  double ref_every = 0.0;
+  double r_min = 0.05, r_max = 0.15;
+};
+
+/// \brief Scenario `index` of the family `seed` (deterministic on every platform).
+Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index);
+
+/// \brief A plant condition drawn per scenario of a family: uniform in [lo, hi]; lo == hi is
+/// that one value, drawn by no one.
+struct ConditionRange {
+  double lo = 0.0, hi = 0.0;
+  bool drawn() const { return hi > lo; }
+};
+
+/// \brief The value of `range` for scenario `index` of family `seed` (deterministic on every
+/// platform); `stream` keeps the draws of different conditions apart.
+double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
+                     std::uint64_t stream);
+
+/// \brief An effectiveness schedule for `s` with one Lambda per distinct theta (regime), uniform
+/// in `range`, the first segment's 1: a regime revisited brings its own Lambda back.
+std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
+                                                                const ConditionRange& range,
+                                                                std::uint64_t seed, int index);
+
+/// \brief Windows (0 = the first segment) whose theta equals that of an earlier segment.
+std::vector<bool> repeatedWindows(const Scenario& s);
+
+/// \brief What the family report needs of one run.
+struct RunDigest {
+  std::vector<double> peak;  ///< peak |e| per window [rad]
+  double iae = 0.0;          ///< whole run [rad s]
+  double max_abs_u = 0.0;    ///< [rad]
+};
+
+/// \brief One mode against rac over a family (docs/spec.md "Beyond the paper").
+struct FamilySummary {
+  int windows = 0;                ///< repeated-switch windows compared
+  double frac_better = 0.0;       ///< peak ratio < 1
+  double frac_halved = 0.0;       ///< peak ratio <= 0.5
+  double median_ratio = 0.0;      ///< median peak ratio
+  double worst_ratio = 0.0;       ///< largest peak ratio
+  double all_median_ratio = 0.0;  ///< median over every switch window (new regimes too)
+  double all_worst_ratio = 0.0;
+  double worst_iae_ratio = 0.0;  ///< largest whole-run IAE ratio to rac
+  int iae_over = 0;              ///< scenarios with IAE more than 5 % above rac's
+  double worst_u_rac = 0.0;      ///< largest max|u| ratio to rac
+  double worst_u_oracle = 0.0;   ///< largest max|u| ratio to the oracle (0 without oracle)
+  std::vector<double> ratios;    ///< every repeated-window ratio (for figures)
+  int lost_runs = 0;  ///< runs whose IAE is not finite: their windows from the blow-up count inf
+};
+
+/// \brief Compare `mode` with `rac` scenario by scenario; `oracle` may be null.
+FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
+                              const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,
+                              const std::vector<RunDigest>* oracle);
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,191 @@
+#include "preadaptive_mrac/core/sim/scenario_family.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+namespace preadaptive_mrac {
+
+namespace {
+// Portable uniform numbers: mt19937_64's sequence is fixed by the standard, the mapping is ours.
+class Uniform {
+ public:
+  explicit Uniform(std::uint64_t seed) : gen_(seed) {}
+  double next() { return static_cast<double>(gen_() >> 11) * (1.0 / 9007199254740992.0); }
+  double in(double a, double b) { return a + (b - a) * next(); }
+  int below(int n) { return std::min(n - 1, static_cast<int>(next() * n)); }
+
+ private:
+  std::mt19937_64 gen_;
+};
+
+std::uint64_t mix(std::uint64_t seed, std::uint64_t index) {
+  // splitmix64 of the pair, so neighbouring seeds and indices give unrelated streams.
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + index + 0x632BE59BD9B4E019ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+}  // namespace
+
+Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index) {
+  if (spec.regimes < 1 || spec.segments < 2 * spec.regimes || spec.n < 1)
+    throw std::invalid_argument("family: need regimes >= 1 and segments >= 2 * regimes");
+  Uniform u(mix(seed, static_cast<std::uint64_t>(index)));
+  std::vector<Eigen::VectorXd> regimes;
+  for (int k = 0; k < spec.regimes; ++k) {
+    const double s = std::exp(u.in(std::log(spec.min_scale), std::log(spec.max_scale)));
+    Eigen::VectorXd th(spec.n);
+    for (int i = 0; i < spec.n; ++i) th[i] = s * (1.0 + spec.spread * u.in(-1.0, 1.0));
+    regimes.push_back(th);
+  }
+  // Visit order: every regime twice, the rest at random, no regime twice in a row.
+  std::vector<int> order;
+  for (int attempt = 0; attempt < 1000 && order.empty(); ++attempt) {
+    std::vector<int> pool;
+    for (int k = 0; k < spec.regimes; ++k) pool.insert(pool.end(), {k, k});
+    while (static_cast<int>(pool.size()) < spec.segments) pool.push_back(u.below(spec.regimes));
+    for (int i = static_cast<int>(pool.size()) - 1; i > 0; --i)
+      std::swap(pool[static_cast<size_t>(i)], pool[static_cast<size_t>(u.below(i + 1))]);
+    bool ok = true;
+    for (size_t i = 1; i < pool.size(); ++i) ok = ok && pool[i] != pool[i - 1];
+    if (ok) order = pool;
+  }
+  if (order.empty()) {  // one regime, or an unlucky draw: alternate deterministically
+    for (int i = 0; i < spec.segments; ++i) order.push_back(i % spec.regimes);
+  }
+  Scenario sc;
+  sc.name = "family_" + std::to_string(seed) + "_" + std::to_string(index);
+  sc.description = "recurring regimes, seed " + std::to_string(seed) + ", scenario " +
+                   std::to_string(index) + " (preadapt_family)";
+  double t = spec.first_duration;
+  sc.theta.push_back({t, Eigen::VectorXd::Constant(spec.n, spec.first_scale)});
+  for (int k : order) {
+    t += u.in(spec.min_duration, spec.max_duration);
+    t = std::round(t * 1000.0) / 1000.0;  // whole milliseconds: switches fall on samples
+    sc.theta.push_back({t, regimes[static_cast<size_t>(k)]});
+  }
+  if (spec.ref_every > 0.0) {
+    double tr = 0.0;
+    double r = spec.r;
+    while (true) {
+      const double next = std::round((tr + u.in(0.5, 1.5) * spec.ref_every) * 1000.0) / 1000.0;
+      if (next >= t) break;
+      sc.reference.push_back({next, r});
+      r = u.in(spec.r_min, spec.r_max);
+      tr = next;
+    }
+    sc.reference.push_back({t, r});
+  } else {
+    sc.reference.push_back({t, spec.r});
+  }
+  return sc;
+}
+
+double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
+                     std::uint64_t stream) {
+  if (!range.drawn()) return range.lo;
+  // A stream of its own, apart from the scenario's theta draws (mix(seed, index)).
+  Uniform u(mix(mix(seed, static_cast<std::uint64_t>(index)), stream + 1));
+  return u.in(range.lo, range.hi);
+}
+
+std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
+                                                                const ConditionRange& range,
+                                                                std::uint64_t seed, int index) {
+  std::vector<Scenario::EffectivenessSegment> out;
+  std::vector<std::pair<Eigen::VectorXd, double>> seen;
+  int draws = 0;
+  for (size_t i = 0; i < s.theta.size(); ++i) {
+    const Eigen::VectorXd& th = s.theta[i].theta;
+    double lambda = 1.0;  // the first segment: the trim before any regime
+    bool found = false;
+    for (const auto& kv : seen)
+      if (kv.first == th) {
+        lambda = kv.second;
+        found = true;
+      }
+    if (!found) {
+      if (i > 0) lambda = drawCondition(range, seed, index, 1000 + draws++);
+      seen.emplace_back(th, lambda);
+    }
+    out.push_back({s.theta[i].until, lambda});
+  }
+  return out;
+}
+
+std::vector<bool> repeatedWindows(const Scenario& s) {
+  std::vector<bool> out(s.theta.size(), false);
+  for (size_t i = 1; i < s.theta.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (s.theta[j].theta.size() == s.theta[i].theta.size() &&
+          s.theta[j].theta == s.theta[i].theta)
+        out[i] = true;
+  return out;
+}
+
+namespace {
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+double ratio(double a, double b) { return b > 0.0 ? a / b : (a > 0.0 ? INFINITY : 1.0); }
+}  // namespace
+
+FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
+                              const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,
+                              const std::vector<RunDigest>* oracle) {
+  FamilySummary s;
+  std::vector<double> all;
+  int better = 0, halved = 0;
+  for (size_t k = 0; k < mode.size() && k < rac.size() && k < repeated.size(); ++k) {
+    // A run lost to divergence (IAE not finite): its windows after the blow-up hold peaks of 0
+    // (|e| NaN compares false), which must count as the worst, not as better than rac.
+    const bool lost = !std::isfinite(mode[k].iae);
+    size_t blow_up = mode[k].peak.size();
+    if (lost) {
+      s.lost_runs += 1;
+      double top = -1.0;
+      for (size_t w = 0; w < mode[k].peak.size(); ++w)
+        if (!(mode[k].peak[w] <= top)) {  // NaN or larger
+          top = std::isfinite(mode[k].peak[w]) ? mode[k].peak[w] : HUGE_VAL;
+          blow_up = w;
+        }
+    }
+    for (size_t w = 1; w < mode[k].peak.size() && w < rac[k].peak.size(); ++w) {
+      const double q = w >= blow_up ? HUGE_VAL : ratio(mode[k].peak[w], rac[k].peak[w]);
+      all.push_back(q);
+      if (w < repeated[k].size() && repeated[k][w]) {
+        s.ratios.push_back(q);
+        better += q < 1.0;
+        halved += q <= 0.5;
+      }
+    }
+    const double qi = lost ? HUGE_VAL : ratio(mode[k].iae, rac[k].iae);
+    s.worst_iae_ratio = std::max(s.worst_iae_ratio, qi);
+    s.iae_over += qi > 1.05;
+    s.worst_u_rac =
+        std::max(s.worst_u_rac, lost ? HUGE_VAL : ratio(mode[k].max_abs_u, rac[k].max_abs_u));
+    if (oracle && k < oracle->size())
+      s.worst_u_oracle = std::max(
+          s.worst_u_oracle, lost ? HUGE_VAL : ratio(mode[k].max_abs_u, (*oracle)[k].max_abs_u));
+  }
+  s.windows = static_cast<int>(s.ratios.size());
+  if (s.windows > 0) {
+    s.frac_better = static_cast<double>(better) / s.windows;
+    s.frac_halved = static_cast<double>(halved) / s.windows;
+    s.median_ratio = median(s.ratios);
+    s.worst_ratio = *std::max_element(s.ratios.begin(), s.ratios.end());
+  }
+  if (!all.empty()) {
+    s.all_median_ratio = median(all);
+    s.all_worst_ratio = *std::max_element(all.begin(), all.end());
+  }
+  return s;
+}
+
+}  // namespace preadaptive_mrac
