@@ -52,6 +52,7 @@ TEST(Solvers, LqrGainIsOptimalAgainstPerturbations) {
   const LqrSolution lqr = solveLqr(A, B, Q, 1.0);
   std::mt19937 gen(3);
   std::normal_distribution<double> nd(0.0, 0.05);
+  int compared = 0;
   for (int trial = 0; trial < 20; ++trial) {
     Eigen::RowVectorXd K = lqr.K;
     for (int i = 0; i < 3; ++i) K[i] += nd(gen);
@@ -60,7 +61,10 @@ TEST(Solvers, LqrGainIsOptimalAgainstPerturbations) {
     const Eigen::MatrixXd Xk = solveLyapunov(Acl, Q + K.transpose() * K);
     EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Xk - lqr.X).eigenvalues().minCoeff(),
               -1e-9);
+    ++compared;
   }
+  // Most perturbed gains still stabilise: a test that compared none would prove nothing.
+  EXPECT_GE(compared, 15);
 }
 
 TEST(Solvers, RandomStabilisableSystems) {

@@ -55,7 +55,7 @@ def package_config(name):
     return load_yaml(os.path.join(PKG_DIR, 'config', name))
 
 
-def test_config(name):
+def broken_config(name):
     return load_yaml(os.path.join(TEST_CONFIG, name))
 
 
@@ -189,7 +189,7 @@ class BrokenConfigTest(unittest.TestCase):
             'mrac_controller_node',
             'mrac_controller',
             ns,
-            self.controller_params(controller=test_config('broken_missing_key.yaml')),
+            self.controller_params(controller=broken_config('broken_missing_key.yaml')),
             'controller/elevator_cmd',
             ElevatorCommand,
             [ns + '/mrac_controller/controller/adaptation/gamma', 'missing'],
@@ -201,7 +201,7 @@ class BrokenConfigTest(unittest.TestCase):
             'mrac_controller_node',
             'mrac_controller',
             ns,
-            self.controller_params(controller=test_config('broken_wrong_type.yaml')),
+            self.controller_params(controller=broken_config('broken_wrong_type.yaml')),
             'controller/elevator_cmd',
             ElevatorCommand,
             [ns + '/mrac_controller/controller/lqr/R', 'expected a number'],
@@ -213,7 +213,7 @@ class BrokenConfigTest(unittest.TestCase):
             'mrac_controller_node',
             'mrac_controller',
             ns,
-            self.controller_params(plant=test_config('broken_not_stabilizable.yaml')),
+            self.controller_params(plant=broken_config('broken_not_stabilizable.yaml')),
             'controller/elevator_cmd',
             ElevatorCommand,
             [ns + '/mrac_controller/plant/A', 'not_stabilizable'],
@@ -221,7 +221,7 @@ class BrokenConfigTest(unittest.TestCase):
 
     def test_several_problems_at_once(self):
         ns = '/broken_many'
-        params = self.controller_params(controller=test_config('broken_missing_key.yaml'))
+        params = self.controller_params(controller=broken_config('broken_missing_key.yaml'))
         params['controller']['lqr']['R'] = 'one'
         params['weights_in'] = '/nonexistent/weights.yaml'
         self.assert_refused(
@@ -290,7 +290,7 @@ class BrokenConfigTest(unittest.TestCase):
         params = merged(
             package_config('plant/b747.yaml'),
             package_config('scenarios/scenario1.yaml'),
-            test_config('broken_plant_node.yaml'),
+            broken_config('broken_plant_node.yaml'),
         )
         self.assert_refused(
             'plant_sim_node',

@@ -52,7 +52,8 @@ const std::vector<StrategyEntry>& strategyRegistry() {
 const std::vector<ModeEntry>& modeRegistry() {
   // The one list of modes is params/modes.yaml (generated into params::kModeRows); each row's
   // law and strategy are looked up by name. A name no part registers is a programming error
-  // of the table, caught the first time any mode is asked for (and by test_mode_registry).
+  // of the table, caught the first time any mode is asked for (and by test_config,
+  // ModeRegistry.EveryTableRowIsARegisteredLawAndStrategy).
   static const std::vector<ModeEntry> kModes = [] {
     std::vector<ModeEntry> v;
     for (const params::ModeRow& row : params::kModeRows) {

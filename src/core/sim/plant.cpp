@@ -156,7 +156,7 @@ void Plant::stepGeneric(double dt, const Vec& theta, double u, double r) {
 // every sum is formed in the order Eigen forms it for n = 3: A x row by row from column 0 up
 // (the lazy product), theta . x as (t0 x0 + t1 x1) + t2 x2 (its dot product), then
 // A x + (B s + B1r r); the RK4 combination as in stepGeneric(). No -ffast-math, and x86-64
-// without -mfma has no fused multiply-add to contract into; test_plant compares the two paths
+// without -mfma has no fused multiply-add to contract into; test_fast_paths compares the two paths
 // bit for bit on whatever target it is built for.
 void Plant::step3(double dt, const Vec& theta, double u, double r) {
   const double* a = a3_;

@@ -4,9 +4,9 @@
 /// reader that collects every problem at once, naming each key by its full name.
 ///
 /// The core never parses YAML or talks to a parameter server: adapters (io/yaml_params,
-/// ros/ros_params) turn those into a ParamValue, and the core's config readers
-/// (config.hpp) read from it. So there is one validation path for the batch CLI and
-/// the ROS nodes.
+/// ros/ros_params) turn those into a ParamValue, and the core's config readers (each
+/// part's `read`, e.g. ControllerConfig::read in control/controller_config.hpp) read from
+/// it. So there is one validation path for the batch CLI and the ROS nodes.
 
 #include <cstdint>
 #include <map>
@@ -84,7 +84,6 @@ class ConfigError : public std::runtime_error {
 
  private:
   std::vector<std::string> problems_;
-  std::vector<std::string> defaults_;
 };
 
 /// \brief How keys are named in messages: "controller.attention.c_e" for files and the CLI,

@@ -91,7 +91,8 @@ class Plant {
 
   /// \brief Advance x by dt [s] with classic RK4; theta, u [rad] and r [rad] constant over the
   /// step. For n = 3 (the B-747 plant) an unrolled path with the same operations in the same
-  /// order, so the same bits (test_plant checks it against the generic path).
+  /// order, so the same bits (test_fast_paths, FastPaths.PlantStepHasTheBitsOfTheGenericStep,
+  /// checks it against the generic path).
   void step(double dt, const Vec& theta, double u, double r);
   /// \brief step() with a disturbance d (n) [units of x_dot] added to x_dot, held over the step
   /// (the generic path for any n: a disturbed run has no bits of the paper's to keep).
