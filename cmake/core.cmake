@@ -47,6 +47,9 @@ pmrac_library(preadaptive_mrac_core
   src/core/robust/identification_window.cpp
   src/core/robust/robust_preadaptation.cpp
   src/core/robust/regime_memory.cpp
+  src/core/robust/chunk_sums.cpp
+  src/core/robust/loss_estimate.cpp
+  src/core/robust/regime_decision.cpp
   src/core/closed_loop.cpp
   src/core/margins.cpp
   src/core/sim/scenario_family.cpp

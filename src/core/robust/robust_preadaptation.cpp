@@ -5,6 +5,7 @@
 
 #include "preadaptive_mrac/core/control/attention.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
+#include "preadaptive_mrac/core/robust/regime_decision.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 
@@ -27,19 +28,16 @@ RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const Plan
       B_(plant.B),
       B1r_(plant.B1r),
       bb_(plant.B.squaredNorm()),
-      net_(net) {
+      net_(net),
+      loss_(plant.n()) {
   sizeWindows();
   const int n = plant.n();
   win_.resize(cap_, Ll_, n);
   x_prev_.setZero(n);
   theta_keep_.setZero(n);
   theta_net_.setZero(n);
-  Gr_.setZero(n, n);
-  hr_.setZero(n);
-  regime_v_.hv.setZero(n);
+  regime_.clear(n);
   prior_.setZero(n);
-  block_.phi.setZero(n);
-  pending_block_.phi.setZero(n);
   net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
   reset();
 }
@@ -86,16 +84,13 @@ void RobustPreadaptation::reset() {
   recalled_ = -1;
   phase_cost_ = 0.0;
   regime_fit_ = false;
-  cr_ = 0.0;
+  regime_.c = 0.0;
   next_chunk_k_ = 0;
   rho_long_ = 0.0;
   long_trigger_ = false;
   nu_regime_ = nu_decided_ = 0.0;
-  lossReset(-1);
-  block_.phi.setZero(B_.size());
-  block_.y = block_.v = block_.d = 0.0;
-  block_.start_k = 0;
-  block_half_ = 0;
+  loss_.restart(-1);
+  loss_.clearBlock();
   t_prev_ = 0.0;
 }
 
@@ -127,7 +122,6 @@ double RobustPreadaptation::triggerThreshold() const {
 }
 
 Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {
-  (void)attention;
   const Vec& x = *s.x;
   Vec phi_k, d;
   double y_k = 0.0, v_k = 0.0;
@@ -150,7 +144,9 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   copyTo(x, &x_prev_);
   have_prev_ = true;
   ++k_;
-  if (sample) lossSample(t_prev_, phi_k, y_k, v_k);
+  // The loss fit's sample covers [t_prev, t_k]: the command there carried excitation(t_prev).
+  if (sample && rc_.excitation > 0.0 && rc_.loss_max > 0.0)
+    loss_.add(k_, excitationHalf(t_prev_), phi_k, y_k, v_k, excitation(t_prev_) * dt_);
   t_prev_ = s.t;
   if (win_.count() < Ld_) return Detection::kNone;
 
@@ -248,7 +244,7 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
     const std::pair<double, double> loss = lossFit();
     memory().remember(theta_keep_, dir / (len * dt_), rc_.merge_tolerance, loss.first, loss.second);
   }
-  lossReset(-1);
+  loss_.restart(-1);
 
   z_onset_ << s.e, std::abs(s.e_dot);
   if (rc_.use_network) net_->forward(z_onset_, &theta_net_);
@@ -279,38 +275,24 @@ void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev)
     if (recalled_ >= 0) memory().markUsed(recalled_);
     // Concurrent learning from here on: the regime's data so far, then every new chunk.
     regime_fit_ = rc_.cl_gain > 0.0;
-    Gr_.setZero();
-    hr_.setZero();
-    cr_ = 0.0;
+    regime_.clear(B_.size());
     const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
-    regime_v_ = LossSums();
-    regime_v_.hv.setZero(B_.size());
-    for (int j0 = m - 1; j0 >= 0; j0 -= Lc_) {
-      const int len = std::min(Lc_, j0 + 1);
-      addChunk(&Gr_, &hr_, &cr_, j0 - len + 1, len, &regime_v_);
-    }
+    addChunks(&regime_, m, true);
     // The regime's fit aims with the loss the last decision used (a recalled entry's).
     nu_regime_ = nu_decided_;
-    lossReset(k_);
+    loss_.restart(k_);
     prior_ = *theta_hat;
     next_chunk_k_ = k_ + Lc_;
   }
 }
 
-void RobustPreadaptation::addChunk(Mat* G, Vec* h, double* c, int j0, int len, LossSums* ls) const {
-  Vec Phi;
-  double Y = 0.0;
-  win_.sums(j0, len, &Phi, &Y);
-  G->noalias() += Phi * Phi.transpose();
-  *h += Y * Phi;
-  *c += Y * Y;
-  if (ls != nullptr) {
-    const double V = win_.vSum(j0, len);
-    ls->hv += V * Phi;
-    ls->yv += Y * V;
-    ls->vv += V * V;
-    ls->v += V;
+int RobustPreadaptation::addChunks(ChunkSums* sums, int m, bool with_loss) const {
+  int chunks = 0;
+  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_, ++chunks) {
+    const int len = std::min(Lc_, j0 + 1);
+    sums->add(win_, j0 - len + 1, len, with_loss);
   }
+  return chunks;
 }
 
 double RobustPreadaptation::chunkSigma() const {
@@ -322,20 +304,14 @@ double RobustPreadaptation::chunkSigma() const {
 bool RobustPreadaptation::refine(Vec* theta_hat) {
   if (!regime_fit_ || verifying_ || k_ < next_chunk_k_) return false;
   next_chunk_k_ += Lc_;
-  addChunk(&Gr_, &hr_, &cr_, 0, Lc_, nu_regime_ > 0.0 ? &regime_v_ : nullptr);
+  regime_.add(win_, 0, Lc_, nu_regime_ > 0.0);
   // With a loss nu the data reads y = (1 - nu) th^T phi + nu (theta_rec^T phi + ...) for the
   // loop's fixed point th: the fit aims at th through (Y - nu v) / (1 - nu).
   const double nu = nu_regime_;
-  const Vec h_fix = nu > 0.0 ? Vec((hr_ - nu * regime_v_.hv) / (1.0 - nu)) : hr_;
   // Bayesian least squares of the regime's data around the prior (the decision's estimate):
   // excited directions follow the data, unexcited ones stay at the prior.
-  const double sigma = chunkSigma();
-  const int n = static_cast<int>(B_.size());
-  Mat Gl = Gr_;
-  const double lambda =
-      sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(Gr_.trace(), 0.0);
-  for (int i = 0; i < n; ++i) Gl(i, i) += lambda;
-  const Vec fit = prior_ + Gl.ldlt().solve(h_fix - Gr_ * prior_);
+  const Vec fit =
+      ridgeFit(regime_.G, regime_.hFixed(nu), prior_, chunkSigma(), rc_.prior_std, rc_.ridge);
   const double step = std::min(1.0, rc_.cl_gain * Lc_ * dt_);
   Vec next = *theta_hat + step * (fit - *theta_hat);
   // Do no harm along the recent data: the pull may not make theta_hat explain the last long
@@ -370,136 +346,53 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
 }
 
 void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
-  const int n = static_cast<int>(B_.size());
   // A remembered regime with a loss nu is judged by the data it predicts while theta_hat is
   // still elsewhere: for the loop's fixed point th, y = (1 - nu) th^T phi + nu V (LossSums).
   RegimeMemory mem = memory();
-  std::vector<double> loss(static_cast<size_t>(mem.size()), 0.0);
+  DecisionCandidates cand;
+  cand.keep = theta_keep_;
   bool any_loss = false;
   for (int i = 0; i < mem.size(); ++i) {
-    loss[static_cast<size_t>(i)] = entryLoss(mem.at(i));
-    any_loss = any_loss || loss[static_cast<size_t>(i)] > 0.0;
+    cand.memory.push_back(mem.at(i).theta);
+    cand.memory_loss.push_back(entryLoss(mem.at(i)));
+    any_loss = any_loss || cand.memory_loss.back() > 0.0;
   }
-  // Post-change data in chunks: G = sum Phi Phi^T, h = sum Phi Y, c = sum Y^2, so that the
-  // identification error of any theta is J = c - 2 theta^T h + theta^T G theta.
+  cand.use_network = rc_.use_network;
+  if (cand.use_network) cand.network = theta_net_;
+  // Post-change data in chunks, and its plain sums.
   const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
-  Mat G = Mat::Zero(n, n);
-  Vec h = Vec::Zero(n);
-  double c = 0.0;
-  LossSums ls;
-  ls.hv.setZero(n);
-  int chunks = 0;
-  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_, ++chunks) {
-    const int len = std::min(Lc_, j0 + 1);
-    addChunk(&G, &h, &c, j0 - len + 1, len, any_loss ? &ls : nullptr);
-  }
-  auto J = [&](const Vec& th) { return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th)); };
-  // sum (Y - (1 - nu) th^T Phi - nu V)^2 = J(th) - 2 nu sum (Y - th^T Phi)(V - th^T Phi) + nu^2
-  // sum (V - th^T Phi)^2.
-  auto Jnu = [&](const Vec& th, double nu) {
-    if (nu <= 0.0) return J(th);
-    const double rw = ls.yv - th.dot(ls.hv) - th.dot(h) + th.dot(G * th);
-    const double ww = ls.vv - 2.0 * th.dot(ls.hv) + th.dot(G * th);
-    return std::max(0.0, J(th) - 2.0 * nu * rw + nu * nu * ww);
-  };
-  double nu_chosen = 0.0;
-  const double sigma = chunkSigma();
-  const double z = std::sqrt(rc_.significance);  // in standard deviations
+  DecisionData data;
+  data.chunks.clear(B_.size());
+  const int chunks = addChunks(&data.chunks, m, any_loss);
+  win_.sums(0, m, &data.phi_tot, &data.y_tot);
+  DecisionSettings set;
+  set.sigma = chunkSigma();
+  set.z = std::sqrt(rc_.significance);  // in standard deviations
+  set.margin = rc_.margin;
+  set.prior_std = rc_.prior_std;
+  set.ridge = rc_.ridge;
+  set.first_move = first_move_;
+  set.clip = k_ < verify_end_k_;
+  const DecisionResult res = decideRegime(data, cand, set);
 
-  // A candidate beats keeping when its error is `margin` lower and the gain is beyond what
-  // noise explains: if keeping were right, J_keep - J_cand = -D + 2 sum d_i eps_i with
-  // d_i = (cand - keep)^T Phi_i and D = sum d_i^2, so noise alone gives 2 sigma sqrt(D).
-  const double j_keep = J(theta_keep_);
-  auto beats = [&](const Vec& cand, double jc) {
-    const Vec d = cand - theta_keep_;
-    const double D = std::max(0.0, d.dot(G * d));
-    return jc < (1.0 - rc_.margin) * j_keep && j_keep - jc > z * 2.0 * sigma * std::sqrt(D);
-  };
-  Event::Decision kind = Event::Decision::kKeep;
-  int chosen = -1;
-  double j_best = j_keep;
-  Vec base = theta_keep_;
-  int candidates = 1;
-  for (int i = 0; i < mem.size(); ++i, ++candidates) {
-    const double nui = loss[static_cast<size_t>(i)];
-    const double ji = Jnu(mem.at(i).theta, nui);
-    if (ji < j_best && beats(mem.at(i).theta, ji)) {
-      j_best = ji;
-      kind = Event::Decision::kMemory;
-      chosen = i;
-      base = mem.at(i).theta;
-      nu_chosen = nui;
-    }
-  }
-  if (rc_.use_network) {
-    ++candidates;
-    const double jn = J(theta_net_);
-    if (jn < j_best && beats(theta_net_, jn)) {
-      j_best = jn;
-      kind = Event::Decision::kNetwork;
-      chosen = -1;
-      base = theta_net_;
-      nu_chosen = 0.0;
-    }
-  }
-  // Fit what the data determines (Bayesian least squares around the chosen base): excited
-  // directions follow the data, the others keep the base. Applied only when the gain is
-  // beyond noise (chi-square with n degrees of freedom, `significance` per parameter).
-  Mat Gr = G;
-  const double lambda =
-      sigma * sigma / (rc_.prior_std * rc_.prior_std) + rc_.ridge * std::max(G.trace(), 0.0);
-  for (int i = 0; i < n; ++i) Gr(i, i) += lambda;
-  // With a recalled loss the fit and the mean below aim at the fixed point: (Y - nu V) / (1 - nu).
-  const Vec h_fix = nu_chosen > 0.0 ? Vec((h - nu_chosen * ls.hv) / (1.0 - nu_chosen)) : h;
-  Vec fitted = base + Gr.ldlt().solve(h_fix - G * base);
-  const double j_fit = Jnu(fitted, nu_chosen);
-  // The fit moves the base only when the base's mean mismatch over all post-change data,
-  // |sum Y - base^T sum Phi|, is beyond z standard deviations: the total's noise is endpoint
-  // noise only (the sums telescope). So noise moves nothing, and a recalled regime that
-  // explains the data is used as remembered.
-  Vec phi_tot;
-  double y_tot = 0.0;
-  win_.sums(0, m, &phi_tot, &y_tot);
-  if (nu_chosen > 0.0) y_tot = (y_tot - nu_chosen * ls.v) / (1.0 - nu_chosen);
-  nu_decided_ = nu_chosen;
-  if (std::abs(y_tot - base.dot(phi_tot)) > z * sigma && j_fit < j_best) {
-    if (kind == Event::Decision::kKeep) kind = Event::Decision::kFit;
-  } else {
-    fitted = base;
-  }
-  // Minimum change along the data. What the post-change data determines best is the mean
-  // mismatch, y_tot - theta^T phi_tot, yet early on its noise (that of two end samples over a
-  // few ms) is tens of mrad of elevator: a candidate that fits the data no worse than noise
-  // explains, or the fit itself, can over-compensate, a spike of the elevator. So while the
-  // decisions are re-made, theta^T phi_tot moves from keeping towards the data only: the first
-  // move no further than the data proves (the near end of its z-interval), later ones no
-  // further than its mean; never the other way. The other directions keep what the candidate
-  // and the fit say. The last decision, on verify_time of data, sets the estimate unclipped,
-  // so the regime fit does not start from the clipped one.
-  const double pp = phi_tot.squaredNorm();
-  if (kind != Event::Decision::kKeep && pp > 0.0 && k_ < verify_end_k_) {
-    const double vk = theta_keep_.dot(phi_tot);
-    const double sgn = y_tot >= vk ? 1.0 : -1.0;
-    const double kappa = first_move_ ? z : 0.0;
-    const double reach = std::max(0.0, sgn * (y_tot - vk) - kappa * sigma);
-    const double move = sgn * (fitted.dot(phi_tot) - vk);
-    const double target = std::min(std::max(move, 0.0), reach);
-    if (target != move) fitted += sgn * (target - move) / pp * phi_tot;
-  }
+  const Event::Decision kind = res.kind;
+  nu_decided_ = res.nu;
   if (kind != Event::Decision::kKeep) first_move_ = false;
-  recalled_ = kind == Event::Decision::kMemory ? chosen : -1;
+  recalled_ = kind == Event::Decision::kMemory ? res.chosen : -1;
   if (kind != Event::Decision::kKeep) {
-    *theta_hat = fitted;
+    *theta_hat = res.theta;
     if (projection_) clampToBall(theta_hat, theta_max_);
     ev->reset = true;
   }
   ev->decision = kind;
-  ev->chosen = chosen;
-  ev->candidates = candidates;
+  ev->chosen = res.chosen;
+  ev->candidates = res.candidates;
   const double Tc = Lc_ * dt_;
   const double norm = 1.0 / (std::sqrt(static_cast<double>(std::max(chunks, 1))) * Tc);
-  ev->score = std::sqrt(kind == Event::Decision::kKeep ? j_keep : J(*theta_hat)) * norm;
-  ev->score_keep = std::sqrt(j_keep) * norm;
+  ev->score =
+      std::sqrt(kind == Event::Decision::kKeep ? res.error_keep : data.chunks.error(*theta_hat)) *
+      norm;
+  ev->score_keep = std::sqrt(res.error_keep) * norm;
 }
 
 double RobustPreadaptation::entryLoss(const RegimeEntry& e) const {
@@ -519,63 +412,9 @@ double RobustPreadaptation::excitation(double t) const {
   return excitationHalf(t) % 2 == 0 ? rc_.excitation : -rc_.excitation;
 }
 
-void RobustPreadaptation::lossReset(std::int64_t start_k) {
-  const Eigen::Index n = B_.size() + 1;
-  loss_start_k_ = start_k;
-  ZX_.setZero(n, n);
-  ZZ_.setZero(n, n);
-  ZY_.setZero(n);
-  pending_ = false;
-  loss_blocks_ = 0;
-}
-
-void RobustPreadaptation::lossSample(double t_prev, const Vec& phi, double y, double v) {
-  if (rc_.excitation <= 0.0 || rc_.loss_max <= 0.0) return;
-  // The sample covers [t_prev, t_k]: the command there carried excitation(t_prev).
-  const std::int64_t half = excitationHalf(t_prev);
-  if (half != block_half_) {  // a flip: the block closes, the one before it joins the fit
-    const Eigen::Index n = B_.size();
-    if (pending_) {
-      Vec z(n + 1), x(n + 1);
-      z << pending_block_.phi, pending_block_.d;
-      x << pending_block_.phi, pending_block_.v;
-      ZX_.noalias() += z * x.transpose();
-      ZZ_.noalias() += z * z.transpose();
-      ZY_ += pending_block_.y * z;
-      ++loss_blocks_;
-    }
-    pending_ = loss_start_k_ >= 0 && block_.start_k >= loss_start_k_;
-    std::swap(pending_block_, block_);
-    block_.phi.setZero(n);
-    block_.y = block_.v = block_.d = 0.0;
-    block_.start_k = k_;
-    block_half_ = half;
-  }
-  block_.phi += phi;
-  block_.y += y;
-  block_.v += v;
-  block_.d += excitation(t_prev) * dt_;
-}
-
 std::pair<double, double> RobustPreadaptation::lossFit() const {
-  // Instrumental variables: y = c^T Phi + nu v over the blocks, instruments (Phi, D). The
-  // measurement noise enters u through the feedback and correlates with the noise of y, so a
-  // least-squares fit on v is biased; the excitation is known and independent of it. The
-  // noise of a block sum is endpoint noise (chunkSigma()), whatever the block's length.
-  constexpr int kMinBlocks = 4;
-  if (rc_.loss_max <= 0.0 || rc_.excitation <= 0.0 || loss_blocks_ < kMinBlocks) return {0.0, 0.0};
-  const Eigen::Index n = B_.size();
-  Mat A = ZX_;
-  const double ridge = 1e-12 * std::max(ZX_.topLeftCorner(n, n).trace(), 0.0);
-  for (Eigen::Index i = 0; i < n; ++i) A(i, i) += ridge;
-  const auto lu = A.fullPivLu();
-  if (!lu.isInvertible()) return {0.0, 0.0};
-  const Mat Ai = lu.inverse();
-  const Vec beta = Ai * ZY_;
-  const double sigma = chunkSigma();
-  const double var = sigma * sigma * (Ai * ZZ_ * Ai.transpose())(n, n);
-  if (!(var > 0.0) || !std::isfinite(beta[n])) return {0.0, 0.0};
-  return {beta[n], 1.0 / var};
+  if (rc_.loss_max <= 0.0 || rc_.excitation <= 0.0) return {0.0, 0.0};
+  return loss_.fit(chunkSigma());
 }
 
 void RobustPreadaptation::duringPhase(const Sample& s, double u, const Vec& theta_hat) {

@@ -13,8 +13,13 @@
 /// A loss of elevator effectiveness (the plant applies Lambda u) makes the data read
 /// y = theta^T phi + (Lambda - 1) u dt instead. A square-wave excitation on the command
 /// (`excitation`) identifies nu = 1 - Lambda per regime (instrumental variables, the excitation
-/// as the instrument); a remembered regime carries its nu into its recall, the fit and
-/// concurrent learning, which then aim at the loop's fixed point (docs/robust.md).
+/// as the instrument, loss_estimate.hpp); a remembered regime carries its nu into its recall, the
+/// fit and concurrent learning, which then aim at the loop's fixed point (docs/robust.md).
+///
+/// The parts: the data (identification_window.hpp, chunk_sums.hpp), the loss estimate
+/// (loss_estimate.hpp), the remembered regimes (regime_memory.hpp) and the decision
+/// (regime_decision.hpp, a pure function); this class schedules them: detection, the onset,
+/// the decisions while verifying, and the regime's concurrent learning.
 
 #include <cstdint>
 #include <utility>
@@ -24,7 +29,9 @@
 #include "preadaptive_mrac/core/control/event.hpp"
 #include "preadaptive_mrac/core/control/network.hpp"
 #include "preadaptive_mrac/core/control/preadaptation.hpp"
+#include "preadaptive_mrac/core/robust/chunk_sums.hpp"
 #include "preadaptive_mrac/core/robust/identification_window.hpp"
+#include "preadaptive_mrac/core/robust/loss_estimate.hpp"
 #include "preadaptive_mrac/core/robust/regime_memory.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 
@@ -67,29 +74,20 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double noiseLevel() const { return dev_ / 1.1283791670955126; }
 
  private:
-  struct Scores;
   /// \brief For n = 3: phi = dt x_mid and the input-equivalent residual d of the last step.
   void residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi, Vec* d) const;
+  /// \brief Gather the post-change data and the candidates, decide (regime_decision.hpp) and
+  /// apply the result.
   void decide(Vec* theta_hat, Event* ev);
-  /// Sums over chunks of the loss regressor V (the chunk's sum of v = -u dt - K^T phi; with
-  /// the plant applying Lambda u, y = (theta + nu K)^T phi + nu v, nu = 1 - Lambda): V Phi,
-  /// Y V, V V and V.
-  struct LossSums {
-    Vec hv;
-    double yv = 0.0, vv = 0.0, v = 0.0;
-  };
-  /// Add the chunk of `len` samples from j0 ago to G = sum Phi Phi^T, h = sum Phi Y,
-  /// c = sum Y^2, and, when given, to the loss regressor's sums.
-  void addChunk(Mat* G, Vec* h, double* c, int j0, int len, LossSums* ls = nullptr) const;
-  /// The loss a remembered entry carries into its recall: 0 unless `significance` from 0.
+  /// \brief Add the chunk sums of the `m` newest samples, oldest chunk first; returns the
+  /// number of chunks.
+  int addChunks(ChunkSums* sums, int m, bool with_loss) const;
+  /// \brief The loss a remembered entry carries into its recall: 0 unless `significance`
+  /// from 0.
   double entryLoss(const RegimeEntry& e) const;
-  /// Start (start_k >= 0: with the blocks from sample start_k on) or stop the loss fit.
-  void lossReset(std::int64_t start_k);
-  /// One sample for the loss fit: blocks between flips of the excitation.
-  void lossSample(double t_prev, const Vec& phi, double y, double v);
-  /// Half-period of the excitation that time t falls in.
-  std::int64_t excitationHalf(
-      double t) const;  /// Noise standard deviation of one chunk sum [rad s].
+  /// \brief Half-period of the excitation that time t falls in.
+  std::int64_t excitationHalf(double t) const;
+  /// \brief Noise standard deviation of one chunk sum [rad s].
   double chunkSigma() const;
   RegimeMemory memory();
   /// Window lengths in samples and the ring's capacity from rc_.
@@ -123,31 +121,16 @@ class RobustPreadaptation : public PreadaptationStrategy {
   int quiet_ = 0;
   Vec theta_keep_, theta_net_;
   NetInput z_onset_ = NetInput::Zero();
-  // The regime since the last decision: chunk statistics (sum Phi Phi^T, sum Phi Y) and the
-  // prior of the concurrent-learning fit.
+  // The regime since the last decision: its chunk sums (with the loss regressor's) and the
+  // prior of the concurrent-learning fit, and the loss its fit aims with (the recalled
+  // entry's).
   bool regime_fit_ = false;
-  Mat Gr_;
-  Vec hr_, prior_;
-  double cr_ = 0.0;
+  ChunkSums regime_;
+  Vec prior_;
   std::int64_t next_chunk_k_ = 0;
-  // The regime's loss regressor sums, and the loss its fit aims with (the recalled entry's).
-  LossSums regime_v_;
   double nu_regime_ = 0.0, nu_decided_ = 0.0;
-  // The loss fit: blocks of samples between flips of the excitation, each (Phi, Y, v, D) with
-  // D the excitation's integral; instruments z = (Phi, D), regressors (Phi, v). A block is
-  // added when the next one closes, so a block the switch reached is never in the fit.
-  struct LossBlock {
-    Vec phi;
-    double y = 0.0, v = 0.0, d = 0.0;
-    std::int64_t start_k = 0;
-  };
-  LossBlock block_, pending_block_;
-  bool pending_ = false;
-  std::int64_t loss_start_k_ = -1, block_half_ = 0;
+  LossEstimate loss_;
   double t_prev_ = 0.0;
-  int loss_blocks_ = 0;
-  Mat ZX_, ZZ_;
-  Vec ZY_;
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };
