@@ -62,7 +62,7 @@ RunConfig loadConfig(const std::string& scenario, const std::string& mode) {
 struct Recording {
   std::string mode;
   RunConfig cfg;
-  NetworkState net0;
+  LearnedState net0;
   std::vector<double> t, r, u;
   std::vector<Vec> x, theta;
   std::vector<int> phase;  // 1 when a phase is active after the step

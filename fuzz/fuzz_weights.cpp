@@ -11,8 +11,8 @@ using namespace preadaptive_mrac;
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const NetworkState s = parseWeights(text, "fuzz.yaml");
-    const NetworkState back = parseWeights(weightsToYaml(s), "roundtrip.yaml");
+    const LearnedState s = parseWeights(text, "fuzz.yaml");
+    const LearnedState back = parseWeights(weightsToYaml(s), "roundtrip.yaml");
     if (back.V != s.V || back.W != s.W || back.seed != s.seed || back.episodes != s.episodes)
       std::abort();  // a loadable file must survive save -> load unchanged
     PreadaptNetwork net(s);

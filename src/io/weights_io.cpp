@@ -33,7 +33,7 @@ std::string dirOf(const std::string& path) {
 }
 }  // namespace
 
-std::string weightsToYaml(const NetworkState& s) {
+std::string weightsToYaml(const LearnedState& s) {
   std::ostringstream os;
   os << "# Preadaptation network theta_hat_I = W^T sigma(V^T [e, |e_dot|]) (preadaptive_mrac)\n";
   os << "format: " << kFormatTag << "\n";
@@ -72,7 +72,7 @@ std::string weightsToYaml(const NetworkState& s) {
   return os.str();
 }
 
-void saveWeights(const std::string& path, const NetworkState& s) {
+void saveWeights(const std::string& path, const LearnedState& s) {
   const std::string text = weightsToYaml(s);
   std::string tmpl = path + ".tmp.XXXXXX";
   std::vector<char> name(tmpl.begin(), tmpl.end());
@@ -117,7 +117,7 @@ void saveWeights(const std::string& path, const NetworkState& s) {
   }
 }
 
-NetworkState parseWeights(const std::string& text, const std::string& origin, int expected_hidden,
+LearnedState parseWeights(const std::string& text, const std::string& origin, int expected_hidden,
                           int expected_outputs) {
   ParamValue tree;
   try {
@@ -144,7 +144,7 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
   if (r.has("outputs") && (outputs < 1 || outputs > kMaxStates))
     r.fail("outputs",
            "must be in [1, " + std::to_string(kMaxStates) + "], got " + std::to_string(outputs));
-  NetworkState s;
+  LearnedState s;
   const std::int64_t seed = r.getInt("seed");
   s.seed = static_cast<std::uint64_t>(seed < 0 ? 0 : seed);
   s.init_scale = r.getDouble("init_scale");
@@ -207,7 +207,7 @@ NetworkState parseWeights(const std::string& text, const std::string& origin, in
   return s;
 }
 
-NetworkState loadWeights(const std::string& path, int expected_hidden, int expected_outputs) {
+LearnedState loadWeights(const std::string& path, int expected_hidden, int expected_outputs) {
   std::ifstream in(path);
   if (!in)
     throw WeightsError(path + ": cannot open weights file (" + std::string(std::strerror(errno)) +

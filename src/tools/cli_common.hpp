@@ -38,7 +38,7 @@ struct RunRequest {
 struct PreparedRun {
   RunConfig cfg;
   RunInfo info;
-  std::optional<NetworkState> weights;  ///< from weights_in
+  std::optional<LearnedState> weights;  ///< from weights_in
 };
 
 /// \brief Load files, apply --set and flags, validate everything. Throws UsageError.

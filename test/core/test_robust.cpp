@@ -149,7 +149,7 @@ TEST(Robust, VerificationRejectsABadRememberedRegime) {
   const Vec a = vec3(4.0, 6.0, 2.0), b = vec3(0.8, 1.2, 0.5), bad = vec3(-8.0, 9.0, -6.0);
   cfg.scenario = abab(a, b);
   Controller ctl(cfg.plant, cfg.controller);
-  NetworkState s = ctl.network().state();
+  LearnedState s = ctl.network().state();
   s.regimes.push_back(RegimeEntry{bad, 5, 1});
   s.regimes.push_back(RegimeEntry{a, 1, 2});
   ctl.setNetwork(s);
@@ -178,7 +178,7 @@ TEST(Robust, RememberedRegimesCarryOverThroughTheWeightsFile) {
   char tmpl[] = "/tmp/pmrac_robust_XXXXXX";
   const std::string path = std::string(mkdtemp(tmpl)) + "/w.yaml";
   saveWeights(path, first.network().state());
-  const NetworkState loaded = loadWeights(path, cfg.controller.hidden, 3);
+  const LearnedState loaded = loadWeights(path, cfg.controller.hidden, 3);
   ASSERT_EQ(loaded.regimes.size(), first.network().state().regimes.size());
 
   // A second run of the same plant: at its FIRST switch into a (to this run new) regime the
@@ -214,7 +214,7 @@ TEST(Robust, ResetsStayInOmegaWithProjection) {
     cfg.controller.theta_max = 3.0;
     cfg.scenario = abab(vec3(4.0, 6.0, 2.0), vec3(0.8, 1.2, 0.5));
     Controller ctl(cfg.plant, cfg.controller);
-    NetworkState s = ctl.network().state();
+    LearnedState s = ctl.network().state();
     s.regimes.push_back(RegimeEntry{vec3(4.0, 6.0, 2.0), 1, 1});  // outside Omega
     ctl.setNetwork(s);
     const SimResult res = run(cfg, &ctl, true);

@@ -41,7 +41,7 @@ TEST(WeightsIo, SaveLoadGivesIdenticalOutputs) {
   const std::string dir = tmpDir();
   const std::string path = dir + "/w.yaml";
   saveWeights(path, net.state());
-  const NetworkState back = loadWeights(path, 3, 3);
+  const LearnedState back = loadWeights(path, 3, 3);
   EXPECT_EQ(back.seed, 99u);
   EXPECT_EQ(back.episodes, 1);
   EXPECT_EQ(back.init_scale, 0.7);
@@ -85,7 +85,7 @@ TEST(WeightsIo, CorruptFilesAreClearErrors) {
 }
 
 TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
-  NetworkState s = PreadaptNetwork(3, 3, 5, 1.0).state();
+  LearnedState s = PreadaptNetwork(3, 3, 5, 1.0).state();
   for (int k = 0; k < 3; ++k) {
     RegimeEntry e;
     e.theta = Vec::Constant(3, 0.1 + 1.0 / 3.0 * k);
@@ -98,7 +98,7 @@ TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
   }
   const std::string dir = tmpDir();
   saveWeights(dir + "/w.yaml", s);
-  const NetworkState back = loadWeights(dir + "/w.yaml", 3, 3);
+  const LearnedState back = loadWeights(dir + "/w.yaml", 3, 3);
   ASSERT_EQ(back.regimes.size(), 3u);
   for (size_t k = 0; k < 3; ++k) {
     EXPECT_EQ((back.regimes[k].theta - s.regimes[k].theta).cwiseAbs().maxCoeff(), 0.0);
@@ -117,7 +117,7 @@ TEST(WeightsIo, RegimesRoundTripAndVersionOneStillLoads) {
   for (std::string line; std::getline(lines, line);)
     if (line.rfind("    loss", 0) != 0) v2_clean += line + "\n";
   EXPECT_EQ(errorOf(v2_clean), "no error");
-  const NetworkState old = parseWeights(v2_clean, "w2.yaml", 3, 3);
+  const LearnedState old = parseWeights(v2_clean, "w2.yaml", 3, 3);
   ASSERT_EQ(old.regimes.size(), 3u);
   EXPECT_EQ(old.regimes[2].loss, 0.0);
   EXPECT_EQ(old.regimes[2].loss_info, 0.0);

@@ -24,16 +24,16 @@ class WeightsError : public std::runtime_error {
 constexpr int kWeightsFormatVersion = 3;
 
 /// \brief Text of a weights file (17 significant digits, so a load gives identical weights).
-std::string weightsToYaml(const NetworkState& s);
+std::string weightsToYaml(const LearnedState& s);
 /// \brief Write to `path` atomically: a temporary file beside it, fsync, rename. On failure
 /// the previous file is untouched and WeightsError is thrown.
-void saveWeights(const std::string& path, const NetworkState& s);
+void saveWeights(const std::string& path, const LearnedState& s);
 /// \brief Read and check a weights file: format tag, version, sizes (V 2 x hidden,
 /// W hidden x outputs) against what the caller expects (< 0: any), finite numbers.
-NetworkState loadWeights(const std::string& path, int expected_hidden = -1,
+LearnedState loadWeights(const std::string& path, int expected_hidden = -1,
                          int expected_outputs = -1);
 /// \brief The same from text; `origin` names it in errors.
-NetworkState parseWeights(const std::string& text, const std::string& origin,
+LearnedState parseWeights(const std::string& text, const std::string& origin,
                           int expected_hidden = -1, int expected_outputs = -1);
 
 }  // namespace preadaptive_mrac

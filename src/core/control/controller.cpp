@@ -106,7 +106,7 @@ Vec Controller::phaseGradient() const {
   return g != nullptr ? *g : Vec(Vec::Zero(n_));
 }
 
-void Controller::setNetwork(const NetworkState& s) {
+void Controller::setNetwork(const LearnedState& s) {
   if (s.hidden() != cfg_.hidden || s.outputs() != n_)
     throw std::invalid_argument("network has " + std::to_string(s.hidden()) + " hidden x " +
                                 std::to_string(s.outputs()) + " outputs, the controller needs " +

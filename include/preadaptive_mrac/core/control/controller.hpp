@@ -82,7 +82,7 @@ class Controller {
   bool phaseActive() const { return attention_.phaseActive(); }
   const PreadaptNetwork& network() const { return net_; }
   /// \brief Replace the network (e.g. loaded weights); sizes must match hidden x n.
-  void setNetwork(const NetworkState& s);
+  void setNetwork(const LearnedState& s);
   /// \brief Start an adaptation phase now, as an onset would, with theta_hat reset to theta_I
   /// (an external trigger; also how a fixed phase is studied). The phase ends at the next
   /// recovery event; learning modes then update the network as usual.

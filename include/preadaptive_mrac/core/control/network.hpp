@@ -11,15 +11,19 @@
 
 namespace preadaptive_mrac {
 
-/// \brief Everything that defines a network: what the weights file holds.
-struct NetworkState {
+/// \brief What the controller learns and carries from one run to the next, all the weights
+/// file holds (io/weights_io.hpp, version 3): the paper's network (its weights, how they were
+/// drawn, the episodes learned) and the regimes pa_robust remembers. PreadaptNetwork holds
+/// it; the strategies reach the remembered regimes through the network they are given.
+struct LearnedState {
   NetV V;                     ///< input weights (2 x h)
   NetW W;                     ///< output weights (h x n)
   std::uint64_t seed = 0;     ///< seed of the initial weights
   double init_scale = 0.0;    ///< initial weights drawn uniform in [-scale, scale]
   std::int64_t episodes = 0;  ///< learning episodes applied so far
-  /// Regimes remembered by pa_robust (saved with the weights, so a second run of the same
-  /// plant starts with its memory); empty for the paper's modes.
+  /// Regimes remembered by pa_robust (regime_memory.hpp keeps the list bounded; saved with
+  /// the weights, so a second run of the same plant starts with its memory); empty for the
+  /// paper's modes.
   std::vector<RegimeEntry> regimes;
   int hidden() const { return static_cast<int>(V.cols()); }
   int outputs() const { return static_cast<int>(W.cols()); }
@@ -32,7 +36,7 @@ class PreadaptNetwork {
   /// \brief Random weights, uniform in [-scale, scale], from a mt19937_64 seeded with `seed`
   /// (bit-for-bit the same on every platform).
   PreadaptNetwork(int hidden, int outputs, std::uint64_t seed, double scale);
-  explicit PreadaptNetwork(const NetworkState& s) : s_(s) {}
+  explicit PreadaptNetwork(const LearnedState& s) : s_(s) {}
 
   /// \brief theta_hat_I for input z; the hidden activations go to *hidden when given.
   void forward(const NetInput& z, Vec* theta_I, HiddenVec* hidden = nullptr) const;
@@ -42,13 +46,13 @@ class PreadaptNetwork {
   /// both gradients use the weights before the step.
   void learn(const NetInput& z, const Vec& g, double rate);
 
-  const NetworkState& state() const { return s_; }
-  NetworkState& state() { return s_; }
+  const LearnedState& state() const { return s_; }
+  LearnedState& state() { return s_; }
   int hidden() const { return s_.hidden(); }
   int outputs() const { return s_.outputs(); }
 
  private:
-  NetworkState s_;
+  LearnedState s_;
 };
 
 }  // namespace preadaptive_mrac
