@@ -4,7 +4,8 @@
 # load. Prints a Markdown table of medians for docs/ros.md and docs/performance.md:
 #   1. lockstep, scenario 3 (140 s at 1 ms = 140 000 round trips), $MODE, recording on: the
 #      plant's wall time from step 0 to the last step, roslaunch's total, round-trip latency;
-#      the first nodelet bag is checked against the batch CLI (bench/bag_vs_cli.py);
+#      the first nodelet bag is checked against the batch CLI (bench/bag_vs_cli.py); then the
+#      same run without recording (the loop alone);
 #   2. compare.launch, scenario 1 (two loops, rac and $MODE, recording on): roslaunch's total
 #      and the slower plant's wall time;
 #   3. realtime at 1 kHz, scenario 1 (60 s): latency from the state's stamp to the command's
@@ -75,6 +76,11 @@ for rep in $(seq 1 "$REPS"); do
       bag_dir:="$d/bags" latency_report:="$d/lockstep.json" output:=log
     # Keep the first nodelet bag for the check against the CLI (about 90 MB each).
     [ "$shape.$rep" = nodelet.1 ] || rm -rf "$d/bags"
+    # --- 1b. the same without recording: the loop alone
+    timed lockstep_norec "$shape" "$rep" "$d/lockstep_norec.json" -- \
+      --log "$d/lockstep_norec.log" --expect-report "$d/lockstep_norec.json" -- -p "$PORT" \
+      preadaptive_mrac scenario.launch scenario:=3 mode:="$MODE" clock:=lockstep \
+      shape:="$shape" record:=false latency_report:="$d/lockstep_norec.json" output:=log
     # --- 2. compare.launch scenario 1 (two loops, recording on)
     timed compare "$shape" "$rep" "$d/rac_plant.json,$d/pa_plant.json" -- \
       --log "$d/compare.log" --expect-report "$d/rac_plant.json" \
@@ -151,6 +157,8 @@ out = {}
 for shape in shapes:
     lk = runs("lockstep", shape)
     rep = [json.load(open(r[5])) for r in lk]
+    nr = runs("lockstep_norec", shape)
+    nrep = [json.load(open(r[5])) for r in nr]
     cm = runs("compare", shape)
     cmp_wall = [max(json.load(open(f))["wall_time_s"] for f in r[5].split(",")) for r in cm]
     rt = [json.load(open(r[5])) for r in runs("realtime", shape)]
@@ -160,6 +168,9 @@ for shape in shapes:
         lock_p99=med([j["latency_us"]["p99"] for j in rep]),
         lock_steps="%d / %d" % (rep[0]["steps"], rep[0]["total_steps"]) if rep else "n/a",
         lock_waits=med([j["recorder_waits"] for j in rep]), lock_load=loads(lk),
+        nr_wall=med([j["wall_time_s"] for j in nrep]), nr_total=med([float(r[4]) for r in nr]),
+        nr_p50=med([j["latency_us"]["p50"] for j in nrep]),
+        nr_p99=med([j["latency_us"]["p99"] for j in nrep]), nr_load=loads(nr),
         cmp_wall=med(cmp_wall), cmp_total=med([float(r[4]) for r in cm]), cmp_load=loads(cm),
         rt_p50=med([j["latency_us"]["p50"] for j in rt]), rt_p99=med([j["latency_us"]["p99"] for j in rt]),
         rt_max=med([j["latency_us"]["max"] for j in rt]), rt_stale=med([j["stale_steps"] for j in rt]),
@@ -179,6 +190,10 @@ for s in shapes:
     o = out[s]
     print("| lockstep, scenario 3, %s, recording (%s runs) | %s | %.2f | %.1f | %.0f / %.0f / - | n/a (recorder waits %.0f) | %s |"
           % (mode, reps, s, o["lock_wall"], o["lock_total"], o["lock_p50"], o["lock_p99"], o["lock_waits"], o["lock_load"]))
+for s in shapes:
+    o = out[s]
+    print("| lockstep, scenario 3, %s, no recording (%s runs) | %s | %.2f | %.1f | %.0f / %.0f / - | - | %s |"
+          % (mode, reps, s, o["nr_wall"], o["nr_total"], o["nr_p50"], o["nr_p99"], o["nr_load"]))
 for s in shapes:
     o = out[s]
     print("| compare.launch, scenario 1, rac + %s, recording (%s runs) | %s | %.2f (slower plant) | %.1f | - | - | %s |"

@@ -20,8 +20,13 @@ include_directories(SYSTEM ${catkin_INCLUDE_DIRS})
 add_library(preadaptive_mrac_ros
   src/ros/ros_params.cpp
   src/ros/node_context.cpp
+  src/ros/inline_queue.cpp
   src/ros/plant_sim_node.cpp
+  src/ros/lockstep_clock.cpp
+  src/ros/realtime_clock.cpp
+  src/ros/node_status.cpp
   src/ros/mrac_controller_node.cpp
+  src/ros/attention_msg.cpp
   src/ros/run_monitor.cpp
   src/ros/bag_recorder.cpp
   src/ros/controller_reconfigure.cpp)

@@ -13,6 +13,10 @@ if(CATKIN_ENABLE_TESTING)
   # ~accept_from's matching (issue 11): which caller ids pass, drops counted and warned once.
   catkin_add_gtest(test_ros_publisher_guard test/ros/test_publisher_guard.cpp)
   target_link_libraries(test_ros_publisher_guard preadaptive_mrac_ros_params gtest_main)
+  # The controller's InlineCallbackQueue: messages run in the delivering thread, one callback
+  # at a time, timers and waiting ones on the queue's thread, in order.
+  catkin_add_gtest(test_ros_inline_queue test/ros/test_inline_queue.cpp)
+  target_link_libraries(test_ros_inline_queue preadaptive_mrac_ros gtest_main)
 
   # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle

@@ -8,6 +8,7 @@
 
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "preadaptive_mrac/ros/controller_reconfigure.hpp"
+#include "preadaptive_mrac/ros/node_status.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 #include "preadaptive_mrac/ros/tick_source.hpp"
 
@@ -17,68 +18,7 @@ namespace {
 
 constexpr uint32_t kSampleQueue = 10000;  // incoming states
 
-std::uint8_t eventType(Event::Type t) {
-  switch (t) {
-    case Event::Type::kOnset:
-      return AttentionEvent::ONSET;
-    case Event::Type::kRecovered:
-      return AttentionEvent::RECOVERED;
-    case Event::Type::kIgnoredOnset:
-      return AttentionEvent::IGNORED_ONSET;
-    case Event::Type::kIgnoredRecovery:
-      return AttentionEvent::IGNORED_RECOVERY;
-    case Event::Type::kDecision:
-      return AttentionEvent::DECISION;
-  }
-  return AttentionEvent::ONSET;
-}
-
-std::uint8_t decisionCode(Event::Decision d) {
-  switch (d) {
-    case Event::Decision::kNone:
-      return AttentionEvent::DECISION_NONE;
-    case Event::Decision::kKeep:
-      return AttentionEvent::DECISION_KEEP;
-    case Event::Decision::kFit:
-      return AttentionEvent::DECISION_FIT;
-    case Event::Decision::kMemory:
-      return AttentionEvent::DECISION_MEMORY;
-    case Event::Decision::kNetwork:
-      return AttentionEvent::DECISION_NETWORK;
-  }
-  return AttentionEvent::DECISION_NONE;
-}
-
-void copyVec(const Vec& v, std::vector<double>* out) {
-  out->resize(static_cast<size_t>(v.size()));
-  for (int i = 0; i < v.size(); ++i) (*out)[static_cast<size_t>(i)] = v[i];
-}
-
 }  // namespace
-
-void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg) {
-  msg->type = eventType(ev.type);
-  msg->type_name = eventTypeName(ev.type);
-  msg->step = step;
-  msg->t = ev.t;
-  msg->e = ev.e;
-  msg->e_dot_est = ev.e_dot;
-  copyVec(ev.theta_hat_before, &msg->theta_hat_before);
-  copyVec(ev.theta_hat_after, &msg->theta_hat_after);
-  msg->reset = ev.reset;
-  msg->cost = ev.cost;
-  copyVec(ev.grad, &msg->grad);
-  msg->learned = ev.learned;
-  msg->episodes = ev.episodes;
-  // pa_robust's verification; the defaults ("", NONE, -1, 0, 0, 0) for every other event.
-  const bool decided = ev.decision != Event::Decision::kNone;
-  msg->decision = decided ? decisionName(ev.decision) : "";
-  msg->decision_code = decisionCode(ev.decision);
-  msg->chosen = decided ? ev.chosen : -1;
-  msg->candidates = decided ? ev.candidates : 0;
-  msg->score = decided ? ev.score : 0.0;
-  msg->score_keep = decided ? ev.score_keep : 0.0;
-}
 
 MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerNodeParams& params)
     : ctx_(ctx),
@@ -544,55 +484,49 @@ void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
 
 void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const double now = ros::Time::now().toSec();
-  const double rate = state_rate_.update(states_received_, now);
-  if (stale_) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
-                 "stale input: publishing safe commands, adaptation frozen");
-  } else if (state_guard_.rejected() > 0) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "malformed states rejected");
-  } else if (input_guard_.dropped() > 0) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 "input from foreign publishers dropped (~accept_from)");
-  } else if (!reconf_->lastRefusal().empty()) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 "reconfigure refused: " + reconf_->lastRefusal());
-  } else {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "adapting");
-  }
-  stat.add("mode", ctl_.mode().c_str());
-  stat.add("stale", stale_);
-  stat.add("stale time [s]", state_guard_.haveValid() ? state_guard_.age(now) : -1.0);
-  stat.add("stale timeout [s]", params_.stale_timeout);
-  stat.add("stale episodes", stale_episodes_);
-  stat.add("stale commands", stale_commands_);
-  stat.add("state rate [Hz]", rate);
-  stat.add("states received", states_received_);
-  stat.add("states accepted", state_guard_.accepted());
-  stat.add("states rejected", state_guard_.rejected());
-  stat.add("last rejection", state_guard_.lastRejection());
-  stat.add("truths rejected", truth_guard_.rejected());
-  stat.add("gaps", gaps_);
-  stat.add("controller steps", steps_);
-  stat.add("saturated steps", saturated_);
-  stat.add("onsets", onsets_);
-  stat.add("recoveries", recoveries_);
-  stat.add("resets", resets_);
-  // pa_robust: DECISION events, and what the verifications (at onsets and DECISION events)
-  // chose.
-  stat.add("decision events", decision_events_);
-  stat.add("decisions keep", decisions_[static_cast<int>(Event::Decision::kKeep)]);
-  stat.add("decisions fit", decisions_[static_cast<int>(Event::Decision::kFit)]);
-  stat.add("decisions memory", decisions_[static_cast<int>(Event::Decision::kMemory)]);
-  stat.add("decisions network", decisions_[static_cast<int>(Event::Decision::kNetwork)]);
-  stat.add("last decision", last_decision_.empty() ? std::string("none") : last_decision_);
-  stat.add("episodes", ctl_.network().state().episodes);
-  stat.add("plant restarts", plant_restarts_);
-  stat.add("reconfigure changes applied", reconf_->applied());
-  stat.add("reconfigure requests refused", reconf_->refused());
-  stat.add("last reconfigure refusal", reconf_->lastRefusal());
-  stat.add("accept from", input_guard_.acceptedText());
-  stat.add("foreign publisher drops", input_guard_.dropped());
-  stat.add("foreign publishers", input_guard_.droppedText());
+  const auto decisions = [this](Event::Decision d) { return decisions_[static_cast<int>(d)]; };
+  NodeStatus(stat)
+      .problem(stale_, diagnostic_msgs::DiagnosticStatus::ERROR,
+               "stale input: publishing safe commands, adaptation frozen")
+      .problem(state_guard_.rejected() > 0, diagnostic_msgs::DiagnosticStatus::WARN,
+               "malformed states rejected")
+      .problem(input_guard_.dropped() > 0, diagnostic_msgs::DiagnosticStatus::WARN,
+               "input from foreign publishers dropped (~accept_from)")
+      .problem(!reconf_->lastRefusal().empty(), diagnostic_msgs::DiagnosticStatus::WARN,
+               "reconfigure refused: " + reconf_->lastRefusal())
+      .summarize("adapting")
+      .rows({{"mode", ctl_.mode()},
+             {"stale", stale_},
+             {"stale time [s]", state_guard_.haveValid() ? state_guard_.age(now) : -1.0},
+             {"stale timeout [s]", params_.stale_timeout},
+             {"stale episodes", stale_episodes_},
+             {"stale commands", stale_commands_},
+             {"state rate [Hz]", state_rate_.update(states_received_, now)},
+             {"states received", states_received_},
+             {"states accepted", state_guard_.accepted()},
+             {"states rejected", state_guard_.rejected()},
+             {"last rejection", state_guard_.lastRejection()},
+             {"truths rejected", truth_guard_.rejected()},
+             {"gaps", gaps_},
+             {"controller steps", steps_},
+             {"saturated steps", saturated_},
+             {"onsets", onsets_},
+             {"recoveries", recoveries_},
+             {"resets", resets_},
+             // pa_robust: DECISION events, and what the verifications (at onsets and DECISION
+             // events) chose.
+             {"decision events", decision_events_},
+             {"decisions keep", decisions(Event::Decision::kKeep)},
+             {"decisions fit", decisions(Event::Decision::kFit)},
+             {"decisions memory", decisions(Event::Decision::kMemory)},
+             {"decisions network", decisions(Event::Decision::kNetwork)},
+             {"last decision", last_decision_.empty() ? std::string("none") : last_decision_},
+             {"episodes", ctl_.network().state().episodes},
+             {"plant restarts", plant_restarts_},
+             {"reconfigure changes applied", reconf_->applied()},
+             {"reconfigure requests refused", reconf_->refused()},
+             {"last reconfigure refusal", reconf_->lastRefusal()}})
+      .guard(input_guard_);
 }
 
 std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ctx) {
@@ -610,7 +544,7 @@ std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ct
   }
 }
 
-int runMracControllerNode() { return spinProcessNode(makeMracControllerNode); }
+int runMracControllerNode() { return spinProcessNode(makeMracControllerNode, true); }
 
 }  // namespace ros1
 }  // namespace preadaptive_mrac

@@ -20,10 +20,14 @@ bool g_defer_shutdown = false;
 
 }  // namespace
 
-NodeContext NodeContext::forProcess() {
+NodeContext NodeContext::forProcess(ros::CallbackQueueInterface* queue) {
   NodeContext c;
   c.nh_ = ros::NodeHandle();
   c.pnh_ = ros::NodeHandle("~");
+  if (queue) {
+    c.nh_.setCallbackQueue(queue);
+    c.pnh_.setCallbackQueue(queue);
+  }
   c.name_ = ros::this_node::getName();
   return c;
 }

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/ros/bag_recorder.hpp"
+#include "preadaptive_mrac/ros/inline_queue.hpp"
 #include "preadaptive_mrac/ros/mrac_controller_node.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/plant_sim_node.hpp"
@@ -37,7 +38,7 @@ class ContextNodelet : public nodelet::Nodelet {
   /// `--required`.
   /// queue: serve the node's callbacks from this queue (a thread of the nodelet's own) instead
   /// of the nodelet's single-threaded queue (the manager's worker threads).
-  NodeContext makeContext(ros::CallbackQueue* queue = nullptr) {
+  NodeContext makeContext(ros::CallbackQueueInterface* queue = nullptr) {
     const std::vector<std::string>& argv = getMyArgv();
     const bool required = std::find(argv.begin(), argv.end(), "--required") != argv.end();
     ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
@@ -93,9 +94,11 @@ class PlantSimNodelet : public ContextNodelet {
 /// each callback of that to a worker through its own manager thread, two thread wake-ups per
 /// message, and the recorder takes four to five messages per lockstep step (docs/ros.md). Here
 /// a message is one push onto the queue, and a thread that is behind takes its backlog in one
-/// go. The lockstep round trip is two threads, the plant's loop and the controller's, which
-/// ~cpu_affinity can put on one CPU.
-template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&)>
+/// go. The controller's queue (Queue = InlineCallbackQueue) runs a message's callback in the
+/// publisher's thread when it is free: the lockstep round trip is the plant's loop alone, with
+/// no thread wake-up; its thread serves only timers, services and a backlog.
+template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&),
+          class Queue = ros::CallbackQueue>
 class CallbackNodelet : public ContextNodelet {
  public:
   ~CallbackNodelet() override {
@@ -115,13 +118,14 @@ class CallbackNodelet : public ContextNodelet {
     });
   }
 
-  ros::CallbackQueue queue_;
+  Queue queue_;
   std::optional<NodeContext> ctx_;
   std::unique_ptr<Node> node_;
   std::thread thread_;
 };
 
-using MracControllerNodelet = CallbackNodelet<MracControllerNode, makeMracControllerNode>;
+using MracControllerNodelet =
+    CallbackNodelet<MracControllerNode, makeMracControllerNode, InlineCallbackQueue>;
 using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder>;
 /// With the required flag it ends the manager when every plant has finished.
 using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor>;

@@ -2,7 +2,6 @@
 
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/callback_queue.h>
-#include <rosgraph_msgs/Clock.h>
 #include <std_msgs/Bool.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -11,14 +10,13 @@
 #include <fstream>
 
 #include "preadaptive_mrac/ros/ros_params.hpp"
+#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
 namespace {
 
 constexpr uint32_t kCommandQueue = 100;
-
-double wallNow() { return ros::WallTime::now().toSec(); }
 
 geometry_msgs::TransformStamped pitchTransform(const ros::Time& stamp, const std::string& parent,
                                                const std::string& child, double angle) {
@@ -40,6 +38,7 @@ geometry_msgs::TransformStamped pitchTransform(const ros::Time& stamp, const std
 PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params)
     : ctx_(ctx),
       nh_(ctx.nh()),
+      own_(nh_),
       params_(params),
       sim_(params.run.plant, params.run.scenario, params.dt),
       updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()),
@@ -47,8 +46,7 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
   // The plant's own subscriptions go to a queue that only its loop serves: in lockstep the
   // loop takes each command as soon as it is queued, with no other thread in between, in a
   // process of its own and in a shared nodelet manager alike.
-  ros::NodeHandle own(nh_);
-  own.setCallbackQueue(&queue_);
+  own_.setCallbackQueue(&queue_);
   updater_.setHardwareID("plant_sim");
   updater_.add("plant", this, &PlantSimNode::diagnose);
   // ~queue_size bounds the backlog kept for each slow subscriber (a recorder under load falls
@@ -57,34 +55,25 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
   state_pub_ = nh_.advertise<PlantState>("plant/state", q);
   truth_pub_ = nh_.advertise<PlantTruth>("plant/truth", q);
   done_pub_ = nh_.advertise<PlantState>("plant/done", 1, /*latch=*/true);
-  if (params_.clock == ClockMode::kLockstep && params_.publish_clock) {
-    // Latched, so a node that starts late (rosbag waits for a valid clock before it
-    // subscribes to anything) sees the current time at once.
-    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("clock", 10, true);
-  }
+  clock_ = makePlantClock(*this);
   tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("tf", 100);
-  cmd_sub_ = own.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback,
-                           this, ros::TransportHints().tcpNoDelay());
+  cmd_sub_ =
+      own_.subscribe("controller/elevator_cmd", kCommandQueue, &PlantSimNode::commandCallback, this,
+                     ros::TransportHints().tcpNoDelay());
   cmd_topic_ = cmd_sub_.getTopic();
   if (cmd_guard_.enabled())
     ROS_INFO("taking commands on %s only from %s (~accept_from)", cmd_topic_.c_str(),
              cmd_guard_.acceptedText().c_str());
-  if (params_.wait_for_controller && params_.clock == ClockMode::kLockstep) {
-    ready_sub_ = own.subscribe<std_msgs::Bool>("controller/ready", 1,
-                                               [this](const std_msgs::Bool::ConstPtr& m) {
-                                                 if (m->data) controller_ready_ = true;
-                                               });
-  }
   if (!params_.recorder_progress_topic.empty()) {
-    progress_sub_ =
-        own.subscribe(params_.recorder_progress_topic, 100, &PlantSimNode::progressCallback, this,
-                      ros::TransportHints().tcpNoDelay());
+    // Realtime only waits for the recorder to exist before step 0 (waitForSubscribers).
+    progress_sub_ = own_.subscribe<RecorderProgress>(
+        params_.recorder_progress_topic, 100,
+        [this](const RecorderProgress::ConstPtr& m) {
+          if (m->topic == state_pub_.getTopic()) clock_->progress(*m);  // not another plant's
+        },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
   latency_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
-  if (params_.clock == ClockMode::kRealtime)
-    tick_late_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
-  if (params_.clock == ClockMode::kLockstep)
-    publish_wall_.assign(static_cast<size_t>(sim_.totalSteps()), 0.0);
   // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0).
   const int out = sim_.plant().outputIndex();
   theta_pitch_ = sim_.state()[out];
@@ -113,75 +102,15 @@ void PlantSimNode::commandCallback(const ros::MessageEvent<ElevatorCommand const
                        static_cast<long long>(commands_rejected_));
     return;
   }
-  if (params_.clock == ClockMode::kLockstep) {
-    if (msg->stale) {
-      // The controller's staleness timer: not an answer to a state; lockstep keeps waiting.
-      ++stale_cmds_ignored_;
-      return;
-    }
-    const auto expected = static_cast<std::uint64_t>(sim_.step());
-    if (sim_.done() || msg->step != expected) {
-      ++commands_ignored_;
-      ROS_WARN_THROTTLE(1.0, "ignoring command for step %llu (waiting for step %llu)",
-                        static_cast<unsigned long long>(msg->step),
-                        static_cast<unsigned long long>(expected));
-      return;
-    }
-    latency_us_.push_back(1e6 * (arrival - publish_wall_[static_cast<size_t>(expected)]));
-  } else {
-    // The command's stamp is the answered state's stamp, which realtime sets to the wall
-    // time of publication.
-    // An answer to a state always supersedes a command of the controller's staleness timer
-    // (whose step numbers run on by themselves and may be ahead).
-    if (have_cmd_ && msg->step <= cmd_step_ && !(cmd_stale_ && !msg->stale)) {
-      ++commands_ignored_;
-      return;
-    }
-    latency_us_.push_back(1e6 * (arrival - msg->header.stamp.toSec()));
-  }
+  double latency_us = 0.0;
+  if (!clock_->take(*msg, arrival, &latency_us)) return;
+  latency_us_.push_back(latency_us);
   ++commands_received_;
   have_cmd_ = true;
   cmd_step_ = msg->step;
   cmd_u_ = msg->u;
   cmd_stale_ = msg->stale;
   last_cmd_wall_ = arrival;
-}
-
-void PlantSimNode::progressCallback(const RecorderProgress::ConstPtr& msg) {
-  // Realtime only waits for the recorder to exist before step 0 (waitForSubscribers).
-  if (params_.clock != ClockMode::kLockstep) return;
-  if (msg->topic != state_pub_.getTopic()) return;  // another plant's progress
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!have_progress_ || msg->step > recorded_step_) recorded_step_ = msg->step;
-  have_progress_ = true;
-}
-
-bool PlantSimNode::waitForRecorder(std::uint64_t step, std::uint64_t lag) {
-  if (!progress_sub_ || params_.clock != ClockMode::kLockstep) return true;
-  const std::uint64_t needed = step > lag ? step - lag : 0;
-  const auto caught_up = [&] {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return have_progress_ && recorded_step_ >= needed;
-  };
-  if (step < lag || caught_up()) return true;
-  const double deadline = wallNow() + params_.command_timeout;
-  while (ctx_.ok()) {
-    if (caught_up()) return true;
-    const double remaining = deadline - wallNow();
-    if (remaining <= 0.0) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      ROS_ERROR(
-          "the recorder (%s) has written step %llu of %s, needed %llu, and made no "
-          "progress for %.3f s (~command_timeout); stopping",
-          progress_sub_.getTopic().c_str(), static_cast<unsigned long long>(recorded_step_),
-          state_pub_.getTopic().c_str(), static_cast<unsigned long long>(needed),
-          params_.command_timeout);
-      return false;
-    }
-    ++recorder_waits_;
-    queue_.callAvailable(ros::WallDuration(std::min(remaining, 0.1)));
-  }
-  return false;
 }
 
 bool PlantSimNode::waitForSubscribers() {
@@ -288,7 +217,7 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   state->r = sim_.reference();
   state->elevator = applied_u_;
   state->elevator_command = sim_.lastCommand();
-  if (params_.clock == ClockMode::kLockstep) publish_wall_[static_cast<size_t>(k)] = wallNow();
+  clock_->published(k, wallNow());
   last_state_ = state;
   state_pub_.publish(last_state_);
 
@@ -323,91 +252,7 @@ int PlantSimNode::run() {
            params_.clock == ClockMode::kRealtime
                ? (", " + std::to_string(params_.rate) + " Hz").c_str()
                : "");
-  return params_.clock == ClockMode::kLockstep ? runLockstep() : runRealtime();
-}
-
-int PlantSimNode::runLockstep() {
-  if (clock_pub_) {
-    rosgraph_msgs::Clock c;
-    c.clock = simStamp(0.0);
-    clock_pub_.publish(c);
-  }
-  if (!waitForSubscribers()) return kExitRuntimeError;
-  // ~cpu_affinity (not ~rt_priority: lockstep has no deadlines): with the controller's thread
-  // pinned to the same CPU each hand-off of the round trip is a switch on that CPU, not a
-  // wake-up of another (docs/ros.md).
-  const SchedulingResult sched = applyRealtimeScheduling(0, params_.cpu_affinity);
-  if (!sched.warnings.empty()) ROS_WARN("%s", sched.warnings.c_str());
-  scheduling_ = sched.describe();
-  wall_start_ = wallNow();
-  rosgraph_msgs::Clock clock_msg;
-  const auto lag = static_cast<std::uint64_t>(params_.max_recorder_lag);
-  const auto clock_every = static_cast<std::uint64_t>(params_.clock_decimation);
-  const auto total = static_cast<std::uint64_t>(sim_.totalSteps());
-  while (ctx_.ok() && !sim_.done()) {
-    const auto k = static_cast<std::uint64_t>(sim_.step());
-    // Back-pressure: a recorder that falls too far behind would hold an ever larger backlog
-    // in this process, lost if the run ends before it is sent.
-    if (!waitForRecorder(k, lag)) {
-      finish(false);
-      return kExitRuntimeError;
-    }
-    const ros::Time stamp = simStamp(sim_.time());
-    if (clock_pub_ && (k % clock_every == 0 || k + 1 == total)) {
-      clock_msg.clock = stamp;
-      clock_pub_.publish(clock_msg);
-    }
-    publishSample(stamp);
-    const double deadline = wallNow() + params_.command_timeout;
-    double resend_at =
-        params_.resend_interval > 0.0 ? wallNow() + params_.resend_interval : deadline;
-    double u = 0.0;
-    bool answered = false;
-    while (ctx_.ok()) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (have_cmd_ && cmd_step_ == k) {
-          u = cmd_u_;
-          answered = true;
-        }
-      }
-      if (answered) break;
-      const double now = wallNow();
-      if (now >= deadline) {
-        ROS_ERROR(
-            "no command for step %llu (t = %.6f s) on %s within %.3f s "
-            "(~command_timeout): %s; stopping (exit code %d)",
-            static_cast<unsigned long long>(k), sim_.time(), cmd_sub_.getTopic().c_str(),
-            params_.command_timeout, noCommandCause("did not answer").c_str(), kExitRuntimeError);
-        finish(false);
-        return kExitRuntimeError;
-      }
-      if (now >= resend_at) {
-        // The state was lost, or reached the controller before it subscribed (an extra
-        // subscriber can make the start-up count look complete). The same message again, and
-        // only the state (nothing waits on the truth or tf): the controller ignores a repeat
-        // and the recorder does not write it twice.
-        ROS_WARN("no command for step %llu after %.3f s: publishing its state again",
-                 static_cast<unsigned long long>(k), params_.resend_interval);
-        ++resent_;
-        state_pub_.publish(last_state_);
-        resend_at = now + params_.resend_interval;
-      }
-      // Blocks until a callback is queued (or the bounded wait ends): no polling delay.
-      queue_.callAvailable(ros::WallDuration(std::min(std::min(deadline, resend_at) - now, 0.1)));
-    }
-    if (!answered) break;  // shutdown requested
-    advance(u);
-    updater_.update();
-  }
-  // The bag must hold the last state before this node (and so the run) ends.
-  if (sim_.done() && !waitForRecorder(static_cast<std::uint64_t>(sim_.totalSteps() - 1), 0)) {
-    finish(false);
-    return kExitRuntimeError;
-  }
-  finish(sim_.done());
-  linger();
-  return 0;
+  return clock_->run();
 }
 
 void PlantSimNode::linger() {
@@ -416,7 +261,7 @@ void PlantSimNode::linger() {
   // so that a launch file can mark this node required without its normal end ending the launch.
   state_pub_.shutdown();
   truth_pub_.shutdown();
-  clock_pub_.shutdown();
+  clock_->close();
   tf_pub_.shutdown();
   cmd_sub_.shutdown();
   progress_sub_.shutdown();
@@ -425,84 +270,11 @@ void PlantSimNode::linger() {
   while (ctx_.ok()) ros::WallDuration(0.05).sleep();
 }
 
-int PlantSimNode::runRealtime() {
-  if (!waitForSubscribers()) return kExitRuntimeError;
-  // The tick thread (this one): optional SCHED_FIFO priority and CPU affinity; a refusal is a
-  // warning and normal scheduling.
-  // In a process of its own also roscpp's receiving thread, which reads each command first.
+void PlantSimNode::schedule(int rt_priority, bool receiving_thread) {
   const SchedulingResult sched =
-      applyRealtimeScheduling(params_.rt_priority, params_.cpu_affinity, !ctx_.isNodelet());
+      applyRealtimeScheduling(rt_priority, params_.cpu_affinity, receiving_thread);
   if (!sched.warnings.empty()) ROS_WARN("%s", sched.warnings.c_str());
   scheduling_ = sched.describe();
-  // Absolute deadlines (clock_nanosleep TIMER_ABSTIME): a late tick does not shift the later
-  // ones, so 60 s of ticks take 60 s.
-  TickSource ticks(1.0 / params_.rate);
-  wall_start_ = wallNow();
-  ticks.start();
-  publishSample(ros::Time(ros::WallTime::now().toSec()));
-  // A controller that subscribed and then died (or never answers) would leave the plant
-  // holding trim through the whole scenario: give up unless one valid command arrives.
-  const double first_cmd_deadline =
-      params_.start_timeout > 0.0 ? wall_start_ + params_.start_timeout : 0.0;
-  while (ctx_.ok()) {
-    // This thread takes the commands itself (no spinner thread in between) until the answer
-    // to the current step is in or the tick is nearly due (kept 50 us for the wake-up).
-    const std::int64_t serve_until = ticks.nextDeadlineNs() - 50000;
-    while (ctx_.ok()) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (have_cmd_ && cmd_step_ == static_cast<std::uint64_t>(sim_.step())) break;
-      }
-      const std::int64_t left = serve_until - monotonicNs();
-      if (left <= 0) break;
-      queue_.callAvailable(ros::WallDuration(static_cast<double>(left) * 1e-9));
-    }
-    tick_late_us_.push_back(1e6 * ticks.waitNext());
-    // Behind schedule the ticks run back to back until the simulation has caught up.
-    if (ticks.late()) ++late_ticks_;
-    double u = 0.0;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (!have_cmd_ && first_cmd_deadline > 0.0 && wallNow() > first_cmd_deadline) {
-        ROS_ERROR(
-            "no valid command on %s within %.1f s of the first state (~start_timeout): %s; "
-            "giving up (exit code %d)",
-            cmd_sub_.getTopic().c_str(), params_.start_timeout,
-            noCommandCause("does not answer").c_str(), kExitRuntimeError);
-        break;
-      }
-      if (!have_cmd_ || cmd_step_ != static_cast<std::uint64_t>(sim_.step())) ++stale_steps_;
-      // Zero-order hold on the latest valid command while it is fresh; without one (none
-      // yet, the controller gone, or only rejected ones) hold trim rather than an old u.
-      const bool fresh = have_cmd_ && wallNow() - last_cmd_wall_ <= params_.cmd_timeout;
-      u = fresh ? cmd_u_ : 0.0;
-      if (!fresh) {
-        ++trim_steps_;
-        if (!in_trim_ && have_cmd_) {
-          ++trim_episodes_;
-          ROS_WARN("no valid command for %.3f s (~cmd_timeout %.3f s): holding trim (u = 0)",
-                   wallNow() - last_cmd_wall_, params_.cmd_timeout);
-        }
-      } else if (in_trim_) {
-        ROS_INFO("commands are back after %lld trim step(s)", static_cast<long long>(trim_steps_));
-      }
-      in_trim_ = !fresh;
-    }
-    advance(u);
-    updater_.update();
-    if (sim_.done()) break;
-    const ros::WallTime now = ros::WallTime::now();
-    publishSample(ros::Time(now.sec, now.nsec));
-  }
-  bool gave_up = false;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    gave_up = !have_cmd_ && ctx_.ok() && !sim_.done();
-  }
-  finish(sim_.done());
-  if (gave_up) return kExitRuntimeError;
-  linger();
-  return 0;
 }
 
 void PlantSimNode::finish(bool completed) {
@@ -539,41 +311,27 @@ void PlantSimNode::finish(bool completed) {
 void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(mutex_);
   const double now = wallNow();
-  const double step_rate = step_rate_.update(sim_.step(), now);
-  const double cmd_rate = cmd_rate_.update(commands_received_, now);
-  const double cmd_age = have_cmd_ ? now - last_cmd_wall_ : -1.0;
-  if (params_.clock == ClockMode::kRealtime && in_trim_ && have_cmd_) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
-                 "no valid command within ~cmd_timeout: holding trim");
-  } else if (commands_rejected_ > 0) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "non-finite commands rejected");
-  } else if (cmd_guard_.dropped() > 0) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 "commands from foreign publishers dropped (~accept_from)");
-  } else {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
-  }
-  stat.add("clock", clockModeName(params_.clock));
-  stat.add("step", sim_.step());
-  stat.add("total steps", sim_.totalSteps());
-  stat.add("state rate [Hz, wall]", step_rate);
-  stat.add("command rate [Hz, wall]", cmd_rate);
-  stat.add("commands received", commands_received_);
-  stat.add("commands ignored (wrong step)", commands_ignored_);
-  stat.add("commands rejected (non-finite)", commands_rejected_);
-  stat.add("last rejection", last_rejection_);
-  stat.add("stale commands ignored (lockstep)", stale_cmds_ignored_);
-  stat.add("command age [s, wall]", cmd_age);
-  stat.add("holding trim", params_.clock == ClockMode::kRealtime && in_trim_);
-  stat.add("trim steps", trim_steps_);
-  stat.add("trim episodes", trim_episodes_);
-  stat.add("saturated steps", saturated_steps_);
-  stat.add("stale steps", stale_steps_);
-  stat.add("late ticks", late_ticks_);
-  stat.add("resent states", resent_);
-  stat.add("accept from", cmd_guard_.acceptedText());
-  stat.add("foreign publisher drops", cmd_guard_.dropped());
-  stat.add("foreign publishers", cmd_guard_.droppedText());
+  NodeStatus status(stat);
+  clock_->problems(status);
+  status
+      .problem(commands_rejected_ > 0, diagnostic_msgs::DiagnosticStatus::WARN,
+               "non-finite commands rejected")
+      .problem(cmd_guard_.dropped() > 0, diagnostic_msgs::DiagnosticStatus::WARN,
+               "commands from foreign publishers dropped (~accept_from)")
+      .summarize("running")
+      .rows({{"clock", clockModeName(params_.clock)},
+             {"step", sim_.step()},
+             {"total steps", sim_.totalSteps()},
+             {"state rate [Hz, wall]", step_rate_.update(sim_.step(), now)},
+             {"command rate [Hz, wall]", cmd_rate_.update(commands_received_, now)},
+             {"commands received", commands_received_},
+             {"commands ignored (wrong step)", commands_ignored_},
+             {"commands rejected (non-finite)", commands_rejected_},
+             {"last rejection", last_rejection_},
+             {"command age [s, wall]", have_cmd_ ? now - last_cmd_wall_ : -1.0},
+             {"saturated steps", saturated_steps_}});
+  clock_->rows(status);
+  status.guard(cmd_guard_);
 }
 
 RunReport PlantSimNode::report() const {
@@ -582,20 +340,15 @@ RunReport PlantSimNode::report() const {
   r.clock = clockModeName(params_.clock);
   r.scenario = sim_.scenario().name;
   r.dt = sim_.dt();
-  r.rate_hz = params_.clock == ClockMode::kRealtime ? params_.rate : 0.0;
   r.steps = sim_.step();
   r.total_steps = sim_.totalSteps();
   r.completed = completed_;
   r.wall_time_s = (wall_end_ > 0.0 ? wall_end_ : wallNow()) - wall_start_;
   r.commands_received = commands_received_;
   r.commands_ignored = commands_ignored_;
-  r.stale_steps = stale_steps_;
-  r.late_ticks = late_ticks_;
-  r.resent_states = resent_;
-  r.recorder_waits = recorder_waits_;
   r.latency = summarizeLatency(latency_us_);
   r.scheduling = scheduling_;
-  r.tick_late = summarizeLatency(tick_late_us_);
+  clock_->report(&r);
   return r;
 }
 

@@ -20,6 +20,7 @@
 #include "preadaptive_mrac/PlantTruth.h"
 #include "preadaptive_mrac/core/control/controller.hpp"
 #include "preadaptive_mrac/core/control/input_guard.hpp"
+#include "preadaptive_mrac/ros/attention_msg.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
 #include "preadaptive_mrac/ros/publisher_guard.hpp"
@@ -29,9 +30,6 @@ namespace preadaptive_mrac {
 namespace ros1 {
 
 class ControllerReconfigure;
-
-/// \brief Fill an AttentionEvent from a core event (step: the sample it happened at).
-void toMsg(const Event& ev, std::uint64_t step, AttentionEvent* msg);
 
 /// \brief The preadaptive MRAC controller node.
 ///

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/schema/params.hpp"
+#include "preadaptive_mrac/ros/inline_queue.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
 #include "preadaptive_mrac/ros/publisher_guard.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
@@ -25,7 +26,8 @@ class NodeContext {
  public:
   /// \brief Process shape, after ros::init(): the global and private node handles of this
   /// process's node; end() records the exit code and shuts the process's node down.
-  static NodeContext forProcess();
+  /// queue: the node's callbacks go there (node handles' queue) instead of the global one.
+  static NodeContext forProcess(ros::CallbackQueueInterface* queue = nullptr);
   /// \brief Nodelet shape: the nodelet's node handles (getNodeHandle(), getPrivateNodeHandle())
   /// and name. required: end() ends the manager process with the code (the nodelet stands for
   /// a required node); otherwise the nodelet just stops and stays loaded.
@@ -110,13 +112,24 @@ bool readNodeParams(const NodeContext& ctx, Reader read, Params* out) {
 
 /// \brief main() (after ros::init()) of a node whose callbacks do all the work: build it with
 /// `make` (nullptr when it refused to start), spin until its run ends or shutdown, then
-/// finish() it (save, close, report). Returns the process's exit code.
+/// finish() it (save, close, report). Returns the process's exit code. With `inline_messages`
+/// its callbacks go to an InlineCallbackQueue: a message's callback runs in roscpp's receiving
+/// thread, without waking this one (the controller: docs/ros.md, "Threads").
 template <class Node>
-int spinProcessNode(std::unique_ptr<Node> (*make)(const NodeContext&)) {
-  const NodeContext ctx = NodeContext::forProcess();
+int spinProcessNode(std::unique_ptr<Node> (*make)(const NodeContext&),
+                    bool inline_messages = false) {
+  InlineCallbackQueue queue;
+  const NodeContext ctx = NodeContext::forProcess(inline_messages ? &queue : nullptr);
   std::unique_ptr<Node> node = make(ctx);
   if (node) {
-    ros::spin();
+    if (inline_messages) {
+      while (ros::ok()) {
+        queue.callAvailable(ros::WallDuration(0.01));
+        ros::getGlobalCallbackQueue()->callAvailable();
+      }
+    } else {
+      ros::spin();
+    }
     node->finish();
   }
   return processExitCode();

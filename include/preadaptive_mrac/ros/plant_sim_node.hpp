@@ -8,6 +8,7 @@
 #include <ros/ros.h>
 
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -20,9 +21,9 @@
 #include "preadaptive_mrac/ros/latency_stats.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
+#include "preadaptive_mrac/ros/plant_clock.hpp"
 #include "preadaptive_mrac/ros/publisher_guard.hpp"
 #include "preadaptive_mrac/ros/rate_meter.hpp"
-#include "preadaptive_mrac/ros/tick_source.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -35,9 +36,8 @@ namespace ros1 {
 /// - subscribes controller/elevator_cmd (ElevatorCommand, tcpNoDelay), taking commands only
 ///   from the publishers of ~accept_from (when set).
 ///
-/// Lockstep: for k = 0 .. total-1 publish /clock = t_k, truth k, state k, then wait (bounded by
-/// ~command_timeout) for the command whose step is k and advance with its u. Realtime: a
-/// wall-clock tick every 1/~rate s advances with the latest command held (zero-order hold).
+/// The steps follow the node's clock (plant_clock.hpp): LockstepClock waits for each step's
+/// answer, RealtimeClock ticks on the wall clock and holds the latest command.
 class PlantSimNode {
  public:
   /// \brief Advertises and subscribes; params must have been validated.
@@ -55,11 +55,11 @@ class PlantSimNode {
   RunReport report() const;
 
  private:
+  friend class LockstepClock;
+  friend class RealtimeClock;
+  friend std::unique_ptr<PlantClock> makePlantClock(PlantSimNode& node);
+
   void commandCallback(const ros::MessageEvent<ElevatorCommand const>& event);
-  void progressCallback(const RecorderProgress::ConstPtr& msg);
-  /// \brief Lockstep back-pressure: wait (bounded by ~command_timeout) until the recorder has
-  /// written state `step` - `lag`. False on timeout or shutdown.
-  bool waitForRecorder(std::uint64_t step, std::uint64_t lag);
   /// \brief Wait (bounded by ~start_timeout) for the subscribers of ~min_state_subscribers and
   /// ~min_truth_subscribers. False on timeout (logged, naming what is missing) or shutdown.
   bool waitForSubscribers();
@@ -70,8 +70,8 @@ class PlantSimNode {
   std::string noCommandCause(const char* silent) const;
   /// \brief With ~linger after a completed run: close every topic, then idle until shutdown.
   void linger();
-  int runLockstep();
-  int runRealtime();
+  /// \brief ~cpu_affinity (and `rt_priority`) for the loop thread; logs refusals.
+  void schedule(int rt_priority, bool receiving_thread);
   /// \brief Publish truth then state of the current step, and tf every ~tf_decimation steps.
   void publishSample(const ros::Time& stamp);
   /// \brief Advance the plant by one step with elevator u [rad]; integrates the pitch angle.
@@ -84,9 +84,10 @@ class PlantSimNode {
   NodeContext ctx_;
   ros::NodeHandle nh_;
   ros::CallbackQueue queue_;  ///< the command and progress subscriptions, served by run()
+  ros::NodeHandle own_;       ///< nh_ on queue_
   PlantNodeParams params_;
   ScenarioPlant sim_;
-  ros::Publisher state_pub_, truth_pub_, clock_pub_;
+  ros::Publisher state_pub_, truth_pub_;
   /// tf (tf2_msgs/TFMessage) and clock, relative: /tf and /clock at the top level, under the
   /// namespace otherwise, so that runs side by side do not mix (a tf2_ros::TransformBroadcaster
   /// would publish on /tf whatever the namespace, and a nodelet's remappings do not reach it).
@@ -105,30 +106,22 @@ class PlantSimNode {
   double applied_u_ = 0.0;    ///< elevator over the previous step [rad]
   double theta_pitch_ = 0.0;  ///< integrated pitch angle [rad] (display only)
 
-  mutable std::mutex mutex_;  ///< guards the fields below (realtime: spinner thread)
+  mutable std::mutex mutex_;  ///< guards the fields below and the clock's counters
   bool have_cmd_ = false;
-  bool have_progress_ = false;
-  std::uint64_t recorded_step_ = 0;  ///< last state step the recorder has written
   std::uint64_t cmd_step_ = 0;
   double cmd_u_ = 0.0;
   std::int64_t commands_received_ = 0, commands_ignored_ = 0;
-  std::int64_t commands_rejected_ = 0;   ///< non-finite u: counted, never applied
-  std::int64_t stale_cmds_ignored_ = 0;  ///< lockstep: the controller's timer commands
-  std::int64_t trim_steps_ = 0;          ///< realtime: steps held at trim (no fresh command)
-  std::int64_t saturated_steps_ = 0;     ///< steps where the actuator limited the command
-  std::int64_t trim_episodes_ = 0;       ///< realtime: times the plant fell back to trim
-  bool in_trim_ = false;
-  bool cmd_stale_ = false;      ///< the held command came from the staleness timer
-  double last_cmd_wall_ = 0.0;  ///< wall time [s] of the last accepted command
+  std::int64_t commands_rejected_ = 0;  ///< non-finite u: counted, never applied
+  std::int64_t saturated_steps_ = 0;    ///< steps where the actuator limited the command
+  bool cmd_stale_ = false;              ///< the held command came from the staleness timer
+  double last_cmd_wall_ = 0.0;          ///< wall time [s] of the last accepted command
   std::string last_rejection_;
   RateMeter step_rate_, cmd_rate_;  ///< wall-clock rates for the diagnostics
-  std::int64_t stale_steps_ = 0, late_ticks_ = 0, resent_ = 0, recorder_waits_ = 0;
   std::vector<double> latency_us_;
-  std::vector<double> tick_late_us_;  ///< realtime: wake-up after each tick's deadline [us]
-  std::string scheduling_;            ///< realtime: the tick thread's scheduling
-  std::vector<double> publish_wall_;  ///< lockstep: wall time [s] state k was published
+  std::string scheduling_;  ///< the loop thread's scheduling
   double wall_start_ = 0.0, wall_end_ = 0.0;
   bool completed_ = false;
+  std::unique_ptr<PlantClock> clock_;  ///< ~clock: the loop; made last
 };
 
 /// \brief Everything main() does after ros::init(): read ~ (every problem at once; ROS_FATAL
