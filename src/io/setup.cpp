@@ -216,8 +216,9 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   header += ",phase,u_baseline,u_adaptive,r,saturated";
   // Columns of the plant's conditions only when a run has them (Series::conditions): a run of
   // the ideal plant writes the same bytes as before they existed.
-  const bool cond = !s.u_applied.empty();
-  if (cond) header += ",u_applied,effectiveness,w_gust,plant_limited";
+  const bool cond = !s.conditions.empty();
+  if (cond)
+    for (const PlantConditionColumn& c : kPlantConditionTable) header += std::string(",") + c.name;
   header += '\n';
   std::fputs(header.c_str(), f.get());
   std::string line;
@@ -256,12 +257,14 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
     line += ',';
     integer(s.saturated[k]);
     if (cond) {
-      for (double v : {s.u_applied[k], s.effectiveness[k], s.w_gust[k]}) {
+      for (const PlantConditionColumn& c : kPlantConditionTable) {
+        const double v = s.conditions[k].*c.field;
         line += ',';
-        num(v);
+        if (c.isFlag())
+          integer(v != 0.0 ? 1 : 0);
+        else
+          num(v);
       }
-      line += ',';
-      integer(s.plant_limited[k]);
     }
     line += '\n';
     std::fwrite(line.data(), 1, line.size(), f.get());

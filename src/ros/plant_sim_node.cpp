@@ -272,6 +272,14 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   truth->effectiveness = sim_.effectiveness();
   truth->gust_w = sim_.gust();
   truth->gust_alpha = sim_.gustAlpha();
+  truth->condition_names.reserve(kPlantConditionTable.size());
+  truth->conditions.reserve(kPlantConditionTable.size());
+  truth->condition_of_previous_step.reserve(kPlantConditionTable.size());
+  for (const PlantConditionColumn& c : kPlantConditionTable) {
+    truth->condition_names.emplace_back(c.name);
+    truth->conditions.push_back(sim_.conditions().*c.field);
+    truth->condition_of_previous_step.push_back(c.known == ConditionKnown::kAfterStep ? 1 : 0);
+  }
   truth_pub_.publish(PlantTruth::ConstPtr(truth));
 
   const auto state = boost::make_shared<PlantState>();

@@ -161,6 +161,47 @@ TEST(ScenarioPlant, EffectivenessScalesTheAppliedElevator) {
   EXPECT_FALSE(b.hasConditions());
 }
 
+// The conditions record (issue 34): every field has exactly one row of the table, the names
+// are distinct, and the record the closed loop keeps for step k is the plant's: the values
+// held over the step (read before it) with what the step did (read after it).
+TEST(PlantConditions, OneRowPerFieldAndTheLoopKeepsThePlantsRecord) {
+  EXPECT_EQ(sizeof(PlantConditions), kPlantConditionTable.size() * sizeof(double))
+      << "a field of PlantConditions without its row in kPlantConditionTable (or the reverse)";
+  for (size_t i = 0; i < kPlantConditionTable.size(); ++i)
+    for (size_t j = 0; j < i; ++j) {
+      EXPECT_STRNE(kPlantConditionTable[i].name, kPlantConditionTable[j].name);
+      EXPECT_NE(kPlantConditionTable[i].field, kPlantConditionTable[j].field);
+    }
+  RunConfig cfg = test::packageConfig("1");
+  cfg.plant.actuator.enabled = true;
+  cfg.plant.actuator.max_rate = 0.5;
+  cfg.plant.dynamics.time_constant = 0.05;
+  cfg.plant.turbulence.enabled = true;
+  cfg.plant.turbulence.sigma_w = 1.5;
+  cfg.plant.turbulence.length_scale = 533.4;
+  cfg.scenario.effectiveness = {{0.5, 1.0}, {60.0, 0.7}};
+  cfg.scenario.theta.resize(1);
+  cfg.scenario.theta[0].until = 1.0;
+  cfg.scenario.reference.resize(1);
+  cfg.scenario.reference[0].until = 1.0;
+  const SimResult res = test::simulate(cfg);
+  ScenarioPlant sim(cfg.plant, cfg.scenario, cfg.controller.sample_time);
+  ASSERT_EQ(res.series.conditions.size(), static_cast<size_t>(sim.totalSteps()));
+  int limited = 0;
+  for (size_t k = 0; k < res.series.conditions.size(); ++k) {
+    const PlantConditions& c = res.series.conditions[k];
+    EXPECT_EQ(c.effectiveness, sim.effectiveness()) << k;
+    EXPECT_EQ(c.w_gust, sim.gust()) << k;
+    sim.advance(res.series.u[k]);
+    EXPECT_EQ(c.u_applied, sim.lastApplied()) << k;
+    EXPECT_EQ(c.plant_limited, sim.lastLimited() ? 1.0 : 0.0) << k;
+    limited += sim.lastLimited() ? 1 : 0;
+  }
+  EXPECT_EQ(limited, res.plant_limited_steps);
+  EXPECT_EQ(res.series.conditions[0].effectiveness, 1.0);
+  EXPECT_EQ(res.series.conditions.back().effectiveness, 0.7);
+}
+
 // The gust enters as alpha_g = w_g / V through the alpha column of A in the alpha and q rows
 // (not the integrator's).
 TEST(ScenarioPlant, GustEntersThroughTheAlphaColumn) {

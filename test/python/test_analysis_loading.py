@@ -147,3 +147,25 @@ class TestConditionColumns(unittest.TestCase):
         (run,) = loading.load_runs(self.write(gust=0.0))
         self.assertIsNone(run.gust_w)
         self.assertIsNotNone(run.u_applied)
+
+    def test_a_new_condition_column_is_loaded_and_drawn_by_name(self):
+        """Issue 34: a condition the Python side has never heard of (here 'airspeed') comes in
+        by its column name and gets a figure of its own; a constant one gets none."""
+        from preadaptive_mrac.analysis import figures, metrics
+
+        path = os.path.join(self.dir, 'new_rac.csv')
+        with open(path, 'w') as f:
+            f.write(HEADER + ',u_applied,effectiveness,w_gust,plant_limited,airspeed\n')
+            for i in range(201):
+                row = [i * 0.01, 0, 0.1, 0, 0, 0.1, 0, 0, 0, 0.2, 1, 1, 1, 1, 1, 1, 0]
+                row += [0.1, 1, 0, 0, 274.0 - 0.01 * i]
+                f.write(','.join('%g' % v for v in row) + '\n')
+        (run,) = loading.load_runs(path)
+        self.assertEqual(
+            sorted(run.conditions),
+            ['airspeed', 'effectiveness', 'plant_limited', 'u_applied', 'w_gust'],
+        )
+        self.assertAlmostEqual(run.conditions['airspeed'][1][100], 273.0)
+        files = figures.write_figures(self.dir, [run], [metrics.run_metrics(run)], None)
+        names = sorted(os.path.basename(p) for p in files if 'condition_' in p)
+        self.assertEqual(names, ['condition_airspeed_new_rac.png'])

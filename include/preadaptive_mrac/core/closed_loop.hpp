@@ -54,11 +54,9 @@ struct Series {
   std::vector<double> t, e, e_dot, u, u_bl, u_ad, r;
   std::vector<Vec> x, x_r, theta_hat, theta_true;  ///< x: true state
   std::vector<int> phase, saturated;
-  /// The plant's conditions, recorded only when it has some (ScenarioPlant::hasConditions):
-  /// elevator applied [rad] (after delay, lag, limits), Lambda, gust w_g [m/s], and whether
-  /// the plant's limits changed the signal. Empty for the paper's ideal plant.
-  std::vector<double> u_applied, effectiveness, w_gust;
-  std::vector<int> plant_limited;
+  /// The plant's conditions over each step (core/sim/plant_conditions.hpp), recorded only when
+  /// it has some (ScenarioPlant::hasConditions). Empty for the paper's ideal plant.
+  std::vector<PlantConditions> conditions;
 };
 
 /// \brief Options of a batch run.

@@ -39,6 +39,7 @@ void ScenarioPlant::reset() {
   limited_steps_ = 0;
   actuator_.reset();
   gust_.reset();
+  cond_ = PlantConditions();
   theta_idx_ = r_idx_ = lambda_idx_ = 0;
   noise_.reseed(noise_cfg_.seed);
   sampleInputs();
@@ -56,8 +57,9 @@ void ScenarioPlant::sampleInputs() {
   theta_idx_ = ti;
   if (has_lambda_) {
     lambda_idx_ = scenario_.effectivenessIndexFrom(mid, lambda_idx_);
-    lambda_ = scenario_.effectiveness[lambda_idx_].value;
+    cond_.effectiveness = scenario_.effectiveness[lambda_idx_].value;
   }
+  cond_.w_gust = gust_.value();
   copyTo(plant_.state(), &measured_);
   if (noisy_)
     for (Eigen::Index i = 0; i < measured_.size(); ++i)
@@ -68,8 +70,10 @@ void ScenarioPlant::advance(double u) {
   u_cmd_ = u;
   const double applied = actuator_.apply(u);
   if (actuator_.limited()) ++limited_steps_;
+  cond_.u_applied = applied;
+  cond_.plant_limited = actuator_.limited() ? 1.0 : 0.0;
   // Without a schedule the applied deflection goes in as it is: the paper's bits.
-  const double effect = has_lambda_ ? lambda_ * applied : applied;
+  const double effect = has_lambda_ ? cond_.effectiveness * applied : applied;
   if (gust_.active()) {
     disturbance_ = gustAlpha() * gust_col_;
     plant_.stepDisturbed(dt_, theta_, effect, r_, disturbance_);
