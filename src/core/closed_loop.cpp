@@ -116,9 +116,11 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
     }
     sim.advance(o.u);
     if (conditions) res.series.conditions.push_back(completeStep(before, sim.conditions()));
+    if (sim.nonFinite()) break;  // nothing after a non-finite state means anything
   }
   res.steps = sim.step();
   res.plant_limited_steps = sim.limitedSteps();
+  res.envelope_exit = sim.envelopeExit();
   res.metrics = acc.metrics();
   return res;
 }

@@ -100,6 +100,32 @@ nlohmann::ordered_json vec(const V& v) {
 }
 }  // namespace
 
+nlohmann::ordered_json envelopeExitJson(const EnvelopeExit& x) {
+  using J = nlohmann::ordered_json;
+  if (!x.exited) return J(nullptr);
+  J j;
+  j["t"] = x.t;
+  j["step"] = x.step;
+  j["bound"] = x.bound;
+  j["key"] = x.key.empty() ? J(nullptr) : J("plant.envelope." + x.key);
+  // JSON has no NaN or infinity: a number that is not finite is written as its text
+  auto num = [](double v) { return std::isfinite(v) ? J(v) : J(formatNumber(v)); };
+  j["value"] = num(x.value);
+  j["limit"] = x.limit;
+  J xs = J::array();
+  for (Eigen::Index i = 0; i < x.x.size(); ++i) xs.push_back(num(x.x[i]));
+  j["x"] = xs;
+  j["u_command"] = num(x.u_command);
+  J c;
+  for (const PlantConditionColumn& col : kPlantConditionTable)
+    c[col.name] = num(x.conditions.*col.field);
+  j["conditions"] = c;
+  j["non_finite"] = x.non_finite;
+  j["non_finite_t"] = x.non_finite ? J(x.non_finite_t) : J(nullptr);
+  j["text"] = x.describe();
+  return j;
+}
+
 nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl,
                                   const SimResult& res) {
   using J = nlohmann::ordered_json;
@@ -160,6 +186,7 @@ nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl,
   j["iae"] = res.metrics.iae;
   j["peak_abs_e"] = res.metrics.peak_abs_e;
   j["max_abs_u"] = res.metrics.max_abs_u;
+  j["envelope_exit"] = envelopeExitJson(res.envelope_exit);  // null: the run stayed inside
   j["episodes"] = ctl.network().state().episodes;
   j["theta_hat_final"] = vec(ctl.thetaHat());
   j["regimes"] = ctl.network().state().regimes.size();

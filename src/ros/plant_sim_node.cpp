@@ -280,6 +280,10 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
     truth->conditions.push_back(sim_.conditions().*c.field);
     truth->condition_of_previous_step.push_back(c.known == ConditionKnown::kAfterStep ? 1 : 0);
   }
+  const EnvelopeExit& exit = sim_.envelopeExit();
+  truth->envelope_bound = exit.exited ? exit.bound : "";
+  truth->envelope_exit_t = exit.exited ? exit.t : -1.0;
+  if (exit.exited) truth->envelope_exit = exit.describe();
   truth_pub_.publish(PlantTruth::ConstPtr(truth));
 
   const auto state = boost::make_shared<PlantState>();
@@ -319,6 +323,11 @@ void PlantSimNode::advance(double u) {
   // What the limits did, not applied != commanded: with a servo delay or lag the deflection
   // differs from the command in nearly every step without any limit being reached.
   if (sim_.lastLimited()) ++saturated_steps_;
+  if (sim_.envelopeExit().exited && !envelope_logged_) {
+    envelope_logged_ = true;
+    ROS_ERROR("plant_sim: left the flight envelope at %s%s", sim_.envelopeExit().describe().c_str(),
+              sim_.nonFinite() ? "; the state is not finite: the run ends" : "");
+  }
   const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.
   theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
@@ -407,6 +416,14 @@ int PlantSimNode::runLockstep() {
     if (!answered) break;  // shutdown requested
     advance(u);
     updater_.update();
+    if (sim_.nonFinite()) {
+      // Nothing after a non-finite state means anything: its sample (the truth says why) is
+      // published and recorded, and the run ends as stopped.
+      publishSample(simStamp(sim_.time()));
+      waitForRecorder(static_cast<std::uint64_t>(sim_.step()), 0);
+      finish(false);
+      return kExitRuntimeError;
+    }
   }
   // The bag must hold the last state before this node (and so the run) ends.
   if (sim_.done() && !waitForRecorder(static_cast<std::uint64_t>(sim_.totalSteps() - 1), 0)) {
@@ -501,6 +518,7 @@ int PlantSimNode::runRealtime() {
     if (sim_.done()) break;
     const ros::WallTime now = ros::WallTime::now();
     publishSample(ros::Time(now.sec, now.nsec));
+    if (sim_.nonFinite()) break;  // its sample published: the run ends (finish: stopped)
   }
   bool gave_up = false;
   {
@@ -508,7 +526,7 @@ int PlantSimNode::runRealtime() {
     gave_up = !have_cmd_ && ctx_.ok() && !sim_.done();
   }
   finish(sim_.done());
-  if (gave_up) return kExitRuntimeError;
+  if (gave_up || sim_.nonFinite()) return kExitRuntimeError;
   linger();
   return 0;
 }
@@ -550,7 +568,10 @@ void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   const double step_rate = step_rate_.update(sim_.step(), now);
   const double cmd_rate = cmd_rate_.update(commands_received_, now);
   const double cmd_age = have_cmd_ ? now - last_cmd_wall_ : -1.0;
-  if (params_.clock == ClockMode::kRealtime && in_trim_ && have_cmd_) {
+  if (sim_.envelopeExit().exited) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "left the flight envelope at " + sim_.envelopeExit().describe());
+  } else if (params_.clock == ClockMode::kRealtime && in_trim_ && have_cmd_) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
                  "no valid command within ~cmd_timeout: holding trim");
   } else if (commands_rejected_ > 0) {
@@ -576,6 +597,7 @@ void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("trim steps", trim_steps_);
   stat.add("trim episodes", trim_episodes_);
   stat.add("saturated steps", saturated_steps_);
+  stat.add("envelope exit", sim_.envelopeExit().describe());
   stat.add("stale steps", stale_steps_);
   stat.add("late ticks", late_ticks_);
   stat.add("resent states", resent_);

@@ -76,6 +76,9 @@ struct SimResult {
   std::int64_t steps = 0;                ///< samples run (fewer than the scenario's when stopped)
   bool stopped = false;                  ///< stopped early by SimOptions::stop_above
   std::int64_t plant_limited_steps = 0;  ///< steps the plant's limits changed the signal
+  /// The first exit from the plant's flight envelope (exited false: the run stayed inside). A
+  /// state or command that is not finite ends the run at that step (non_finite).
+  EnvelopeExit envelope_exit;
 };
 
 /// \brief The closed loop of a plant, a scenario and a controller.

@@ -116,6 +116,7 @@ class PlantSimNode {
   std::int64_t stale_cmds_ignored_ = 0;  ///< lockstep: the controller's timer commands
   std::int64_t trim_steps_ = 0;          ///< realtime: steps held at trim (no fresh command)
   std::int64_t saturated_steps_ = 0;     ///< steps where the actuator limited the command
+  bool envelope_logged_ = false;         ///< the ERROR of the envelope exit was logged
   std::int64_t trim_episodes_ = 0;       ///< realtime: times the plant fell back to trim
   bool in_trim_ = false;
   bool cmd_stale_ = false;      ///< the held command came from the staleness timer

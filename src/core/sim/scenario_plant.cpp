@@ -14,6 +14,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       actuator_(plant.dynamics, plant.actuator, dt > 0.0 ? dt : 1.0),
       gust_(plant.turbulence, plant.airspeed, dt > 0.0 ? dt : 1.0),
       has_lambda_(!scenario.effectiveness.empty()),
+      envelope_(plant.envelope, plant.output_index),
       noise_cfg_(plant.noise),
       noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {
@@ -40,6 +41,7 @@ void ScenarioPlant::reset() {
   actuator_.reset();
   gust_.reset();
   cond_ = PlantConditions();
+  envelope_.reset();
   theta_idx_ = r_idx_ = lambda_idx_ = 0;
   noise_.reseed(noise_cfg_.seed);
   sampleInputs();
@@ -68,6 +70,7 @@ void ScenarioPlant::sampleInputs() {
 
 void ScenarioPlant::advance(double u) {
   u_cmd_ = u;
+  envelope_.checkCommand(k_, time(), u, plant_.state(), cond_);
   const double applied = actuator_.apply(u);
   if (actuator_.limited()) ++limited_steps_;
   cond_.u_applied = applied;
@@ -83,6 +86,7 @@ void ScenarioPlant::advance(double u) {
   }
   ++k_;
   sampleInputs();
+  envelope_.checkState(k_, time(), plant_.state(), u, cond_);
 }
 
 }  // namespace preadaptive_mrac

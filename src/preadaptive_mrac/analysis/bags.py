@@ -197,6 +197,12 @@ def _fill_from_bag(run, acc, path):
         if np.any(gust != 0.0):
             run.t_gust, run.gust_w = run.t_theta, gust
 
+    # issue 35: the plant's first exit from the flight envelope (bags before it have no field)
+    for m, _ in tr:
+        if getattr(m, 'envelope_exit', ''):
+            run.envelope_exit = m.envelope_exit
+            break
+
     el = acc['elevator']
     if el:
         run.t_u = _msg_times(el, '%s/controller/elevator_cmd' % ns, run)

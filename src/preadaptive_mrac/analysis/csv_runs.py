@@ -108,6 +108,9 @@ def _load_csv(path):
     summary = None
     if os.path.exists(json_path):
         summary = _parse_summary_json(json_path)
+    exit_ = summary.get('envelope_exit') if summary is not None else None
+    if isinstance(exit_, dict) and exit_.get('text'):
+        run.envelope_exit = exit_['text']
     if summary is not None and isinstance(summary.get('mode'), str):
         run.mode = summary['mode']
         run.mode_from = os.path.basename(json_path)

@@ -102,6 +102,9 @@ class Run:
         self.t_applied = self.u_applied = None
         self.t_gust = self.gust_w = None
         self.conditions = {}
+        # issue 35: the plant's first exit from the flight envelope, one line (None: stayed
+        # inside, or the source does not say)
+        self.envelope_exit = None
         self.summary = None  # the batch CLI's --json object, for a CSV input
         # dynamic_reconfigure changes (controller/param_change): dicts t, step, name,
         # old_value, new_value; drawn as markers on the time plots

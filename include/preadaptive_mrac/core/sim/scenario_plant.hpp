@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "preadaptive_mrac/core/sim/actuator.hpp"
+#include "preadaptive_mrac/core/sim/envelope.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/sim/plant_conditions.hpp"
 #include "preadaptive_mrac/core/sim/scenario.hpp"
@@ -64,6 +65,11 @@ class ScenarioPlant {
   /// \brief Delay, lag, an effectiveness schedule or turbulence are configured (the paper's
   /// ideal plant otherwise, limits or not).
   bool hasConditions() const { return conditions_; }
+  /// \brief The first exit from the flight envelope (plant.envelope) since reset(): the
+  /// command given to advance() is checked at t_k, the state reached at t_k + dt.
+  const EnvelopeExit& envelopeExit() const { return envelope_.exit(); }
+  /// \brief A state or command was not finite: nothing after it means anything, end the run.
+  bool nonFinite() const { return envelope_.nonFinite(); }
   const Plant& plant() const { return plant_; }
   const Scenario& scenario() const { return scenario_; }
 
@@ -81,6 +87,7 @@ class ScenarioPlant {
   double inv_airspeed_ = 0.0;
   bool has_lambda_ = false;  // the scenario schedules Lambda
   PlantConditions cond_;
+  EnvelopeMonitor envelope_;
   bool conditions_ = false;
   MeasurementNoise noise_cfg_;
   bool noisy_ = false;  // noise_cfg_.active(), once
