@@ -80,7 +80,8 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
   const bool stopping = opt.stop_above < std::numeric_limits<double>::infinity();
   while (!sim.done()) {
     const double t = sim.time();
-    const PlantConditions before = sim.conditions();  // held over this step
+    PlantConditions before;  // held over this step (copied only when recorded)
+    if (conditions) before = sim.conditions();
     StepInput in;
     in.t = t;
     in.x = &sim.measured();  // unchanged until sim.advance()
