@@ -7,6 +7,8 @@ Subscribes to plant/state, plant/truth, /diagnostics and /rosout; waits (bounded
 checks what each said.
 """
 import math
+import os
+import signal
 import sys
 import threading
 import time
@@ -16,7 +18,7 @@ import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rosgraph_msgs.msg import Log
-from rostest_util import subscribe_loop, wait_for
+from rostest_util import signal_node, subscribe_loop, wait_for
 
 PKG = "preadaptive_mrac"
 
@@ -93,6 +95,18 @@ class EnvelopeTest(unittest.TestCase):
             log = list(self.log_errors)
         self.assertEqual(len(log), 1, log)
         self.assertIn("t = ", log[0])
+        # The recorder, stopped, names the bag: a run that left the envelope (and stopped).
+        import rosbag
+
+        bag = rospy.get_param("~bag")
+        signal_node("/bag_recorder", signal.SIGINT, 30.0, "the recorder to close its bag and exit")
+        marked = bag[: -len(".bag")] + ".incomplete.envelope_exit.bag"
+        self.assertTrue(
+            os.path.exists(marked), "%s: %s" % (marked, os.listdir(os.path.dirname(bag)))
+        )
+        with rosbag.Bag(marked) as b:
+            said = [m.envelope_bound for _, m, _ in b.read_messages(topics=["/plant/truth"])]
+        self.assertIn(bound, said)
         rospy.loginfo(
             "envelope: %s; diagnostics ERRORs %d; %d states", text, len(diag), len(states)
         )
