@@ -29,6 +29,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/sim/actuator.cpp
   src/core/sim/turbulence.cpp
   src/core/sim/scenario_plant.cpp
+  src/core/sim/envelope.cpp
   src/core/sim/scenario.cpp
   src/core/control/network.cpp
   src/core/control/controller_config.cpp

@@ -53,6 +53,13 @@ if(CATKIN_ENABLE_TESTING)
                    preadaptive_mrac_nodelets preadapt_sim)
   endforeach()
 
+  # Issue 35: a plant whose envelope scenario 1 leaves (max_alpha 0.05 rad): the truth says the
+  # CLI's exit (bound, time) from the sample after it; the run goes on, still the CLI's run.
+  add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=nodelet name_suffix:=_envelope
+    plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/envelope_plant.yaml
+    DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
+                 preadaptive_mrac_nodelets preadapt_sim)
+
   # Broken parameters: nodes exit non-zero naming the key and never publish a command.
   add_rostest(test/ros/broken_config.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
@@ -64,6 +71,11 @@ if(CATKIN_ENABLE_TESTING)
   # Issue 24: the end of a realtime run is not a fault (no stale commands after the last state).
   add_rostest(test/ros/realtime_end.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
+  # Issue 35: a run that loses the aircraft says so, and ends at a non-finite state.
+  foreach(clock realtime lockstep)
+    add_rostest(test/ros/envelope.test ARGS clock:=${clock}
+      DEPENDENCIES plant_sim_node mrac_controller_node)
+  endforeach()
 
   # Issue 5, reliability (wall clock). The controller alone, fed by the test: NaN states are
   # answered safely and do not refresh the staleness timer; silence gives stale safe commands

@@ -73,13 +73,15 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       v->reserve(static_cast<size_t>(steps));
     s.phase.reserve(static_cast<size_t>(steps));
     s.saturated.reserve(static_cast<size_t>(steps));
+    if (sim.hasConditions()) s.conditions.reserve(static_cast<size_t>(steps));
   }
   // The conditions' columns: what the plant did over each sample, recorded after advance().
   const bool conditions = opt.record_series && sim.hasConditions();
   const bool stopping = opt.stop_above < std::numeric_limits<double>::infinity();
   while (!sim.done()) {
     const double t = sim.time();
-    const double lambda = sim.effectiveness(), gust = sim.gust();
+    PlantConditions before;  // held over this step (copied only when recorded)
+    if (conditions) before = sim.conditions();
     StepInput in;
     in.t = t;
     in.x = &sim.measured();  // unchanged until sim.advance()
@@ -114,16 +116,12 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       break;
     }
     sim.advance(o.u);
-    if (conditions) {
-      auto& s = res.series;
-      s.u_applied.push_back(sim.lastApplied());
-      s.effectiveness.push_back(lambda);
-      s.w_gust.push_back(gust);
-      s.plant_limited.push_back(sim.lastLimited() ? 1 : 0);
-    }
+    if (conditions) res.series.conditions.push_back(completeStep(before, sim.conditions()));
+    if (sim.nonFinite()) break;  // nothing after a non-finite state means anything
   }
   res.steps = sim.step();
   res.plant_limited_steps = sim.limitedSteps();
+  res.envelope_exit = sim.envelopeExit();
   res.metrics = acc.metrics();
   return res;
 }

@@ -100,6 +100,32 @@ nlohmann::ordered_json vec(const V& v) {
 }
 }  // namespace
 
+nlohmann::ordered_json envelopeExitJson(const EnvelopeExit& x) {
+  using J = nlohmann::ordered_json;
+  if (!x.exited) return J(nullptr);
+  J j;
+  j["t"] = x.t;
+  j["step"] = x.step;
+  j["bound"] = x.bound;
+  j["key"] = x.key.empty() ? J(nullptr) : J("plant.envelope." + x.key);
+  // JSON has no NaN or infinity: a number that is not finite is written as its text
+  auto num = [](double v) { return std::isfinite(v) ? J(v) : J(formatNumber(v)); };
+  j["value"] = num(x.value);
+  j["limit"] = x.limit;
+  J xs = J::array();
+  for (Eigen::Index i = 0; i < x.x.size(); ++i) xs.push_back(num(x.x[i]));
+  j["x"] = xs;
+  j["u_command"] = num(x.u_command);
+  J c;
+  for (const PlantConditionColumn& col : kPlantConditionTable)
+    c[col.name] = num(x.conditions.*col.field);
+  j["conditions"] = c;
+  j["non_finite"] = x.non_finite;
+  j["non_finite_t"] = x.non_finite ? J(x.non_finite_t) : J(nullptr);
+  j["text"] = x.describe();
+  return j;
+}
+
 nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl,
                                   const SimResult& res) {
   using J = nlohmann::ordered_json;
@@ -160,6 +186,7 @@ nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl,
   j["iae"] = res.metrics.iae;
   j["peak_abs_e"] = res.metrics.peak_abs_e;
   j["max_abs_u"] = res.metrics.max_abs_u;
+  j["envelope_exit"] = envelopeExitJson(res.envelope_exit);  // null: the run stayed inside
   j["episodes"] = ctl.network().state().episodes;
   j["theta_hat_final"] = vec(ctl.thetaHat());
   j["regimes"] = ctl.network().state().regimes.size();
@@ -216,8 +243,9 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   header += ",phase,u_baseline,u_adaptive,r,saturated";
   // Columns of the plant's conditions only when a run has them (Series::conditions): a run of
   // the ideal plant writes the same bytes as before they existed.
-  const bool cond = !s.u_applied.empty();
-  if (cond) header += ",u_applied,effectiveness,w_gust,plant_limited";
+  const bool cond = !s.conditions.empty();
+  if (cond)
+    for (const PlantConditionColumn& c : kPlantConditionTable) header += std::string(",") + c.name;
   header += '\n';
   std::fputs(header.c_str(), f.get());
   std::string line;
@@ -256,12 +284,14 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
     line += ',';
     integer(s.saturated[k]);
     if (cond) {
-      for (double v : {s.u_applied[k], s.effectiveness[k], s.w_gust[k]}) {
+      for (const PlantConditionColumn& c : kPlantConditionTable) {
+        const double v = s.conditions[k].*c.field;
         line += ',';
-        num(v);
+        if (c.isFlag())
+          integer(v != 0.0 ? 1 : 0);
+        else
+          num(v);
       }
-      line += ',';
-      integer(s.plant_limited[k]);
     }
     line += '\n';
     std::fwrite(line.data(), 1, line.size(), f.get());

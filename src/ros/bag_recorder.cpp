@@ -181,6 +181,9 @@ void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEven
   if constexpr (std::is_same<M, tf2_msgs::TFMessage>::value)
     if (!msg.transforms.empty()) t = msg.transforms.front().header.stamp;
   if constexpr (std::is_same<M, PlantState>::value) state = &msg;
+  // A run that left the flight envelope (issue 35): the bag's name will say so.
+  if constexpr (std::is_same<M, PlantTruth>::value)
+    if (envelope_exit_.empty() && !msg.envelope_exit.empty()) envelope_exit_ = msg.envelope_exit;
   if constexpr (std::is_same<M, PlantState>::value || std::is_same<M, ElevatorCommand>::value)
     if (isRepeat(topic, ev.getPublisherName(), msg.step, msg.header.stamp)) return;
   record(topic, t, msg, ev.getConnectionHeaderPtr(), state);
@@ -277,6 +280,8 @@ void BagRecorder::finish() {
   // A plant's states stopped before its last step (another node refused or died, or the run
   // was interrupted): kept, under a name that says so.
   if (!complete) path_ = path_.substr(0, path_.size() - 4) + ".incomplete.bag";
+  // A run that left the flight envelope: <name>.envelope_exit.bag (and the line below says it).
+  if (!envelope_exit_.empty()) path_ = path_.substr(0, path_.size() - 4) + ".envelope_exit.bag";
   closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
@@ -287,6 +292,7 @@ void BagRecorder::finish() {
       "closed " + path_ +
       (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +
       (complete ? "" : " (incomplete: a plant stopped before its last step)") +
+      (envelope_exit_.empty() ? "" : " (left the flight envelope at " + envelope_exit_ + ")") +
       "; messages:" + summary);
 }
 

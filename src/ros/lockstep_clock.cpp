@@ -168,6 +168,14 @@ int LockstepClock::run() {
     }
     n.advance(u);
     n.updater_.update();
+    if (n.sim_.nonFinite()) {
+      // Nothing after a non-finite state means anything: its sample (the truth says why) is
+      // published and recorded, and the run ends as stopped.
+      n.publishSample(PlantSimNode::simStamp(n.sim_.time()));
+      waitForRecorder(static_cast<std::uint64_t>(n.sim_.step()), 0);
+      n.finish(false);
+      return kExitRuntimeError;
+    }
   }
   // The bag must hold the last state before this node (and so the run) ends.
   if (n.sim_.done() && !waitForRecorder(total - 1, 0)) {

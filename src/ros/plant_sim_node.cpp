@@ -201,6 +201,18 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   truth->effectiveness = sim_.effectiveness();
   truth->gust_w = sim_.gust();
   truth->gust_alpha = sim_.gustAlpha();
+  truth->condition_names.reserve(kPlantConditionTable.size());
+  truth->conditions.reserve(kPlantConditionTable.size());
+  truth->condition_of_previous_step.reserve(kPlantConditionTable.size());
+  for (const PlantConditionColumn& c : kPlantConditionTable) {
+    truth->condition_names.emplace_back(c.name);
+    truth->conditions.push_back(sim_.conditions().*c.field);
+    truth->condition_of_previous_step.push_back(c.known == ConditionKnown::kAfterStep ? 1 : 0);
+  }
+  const EnvelopeExit& exit = sim_.envelopeExit();
+  truth->envelope_bound = exit.exited ? exit.bound : "";
+  truth->envelope_exit_t = exit.exited ? exit.t : -1.0;
+  if (exit.exited) truth->envelope_exit = exit.describe();
   truth_pub_.publish(PlantTruth::ConstPtr(truth));
 
   const auto state = boost::make_shared<PlantState>();
@@ -240,6 +252,11 @@ void PlantSimNode::advance(double u) {
   // What the limits did, not applied != commanded: with a servo delay or lag the deflection
   // differs from the command in nearly every step without any limit being reached.
   if (sim_.lastLimited()) ++saturated_steps_;
+  if (sim_.envelopeExit().exited && !envelope_logged_) {
+    envelope_logged_ = true;
+    ROS_ERROR("plant_sim: left the flight envelope at %s%s", sim_.envelopeExit().describe().c_str(),
+              sim_.nonFinite() ? "; the state is not finite: the run ends" : "");
+  }
   const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.
   theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
@@ -312,6 +329,8 @@ void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(mutex_);
   const double now = wallNow();
   NodeStatus status(stat);
+  status.problem(sim_.envelopeExit().exited, diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "left the flight envelope at " + sim_.envelopeExit().describe());
   clock_->problems(status);
   status
       .problem(commands_rejected_ > 0, diagnostic_msgs::DiagnosticStatus::WARN,
@@ -329,7 +348,8 @@ void PlantSimNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
              {"commands rejected (non-finite)", commands_rejected_},
              {"last rejection", last_rejection_},
              {"command age [s, wall]", have_cmd_ ? now - last_cmd_wall_ : -1.0},
-             {"saturated steps", saturated_steps_}});
+             {"saturated steps", saturated_steps_},
+             {"envelope exit", sim_.envelopeExit().describe()}});
   clock_->rows(status);
   status.guard(cmd_guard_);
 }

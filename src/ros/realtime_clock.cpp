@@ -99,9 +99,10 @@ int RealtimeClock::run() {
     if (n.sim_.done()) break;
     const ros::WallTime now = ros::WallTime::now();
     n.publishSample(ros::Time(now.sec, now.nsec));
+    if (n.sim_.nonFinite()) break;  // its sample published: the run ends (finish: stopped)
   }
   n.finish(n.sim_.done());
-  if (gave_up) return kExitRuntimeError;
+  if (gave_up || n.sim_.nonFinite()) return kExitRuntimeError;
   n.linger();
   return 0;
 }

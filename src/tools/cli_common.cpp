@@ -176,5 +176,12 @@ SimResult execute(const PreparedRun& run, bool record_series,
   return res;
 }
 
+std::string envelopeNote(const EnvelopeExit& x) {
+  if (!x.exited) return "";
+  return "left the flight envelope at " + x.describe() +
+         (x.non_finite ? "; the run ended there (a state or command that is not finite)"
+                       : "; the run went on to its end (docs/reliability.md)");
+}
+
 }  // namespace cli
 }  // namespace preadaptive_mrac

@@ -55,6 +55,12 @@ struct RunOptionText {
 };
 /// \brief Add --dt, --set, --plant, --controller (and --scenario when `with_scenario`) to a
 /// CLI11 app, bound to `req`.
+/// \brief The one line a batch tool says about a run that left the flight envelope ("" for
+/// one that stayed inside): "left the flight envelope at t = ...: <bound>; the run went on to
+/// its end" (a finite excursion) or "...; the run ended there (a state or command that is not
+/// finite)".
+std::string envelopeNote(const EnvelopeExit& x);
+
 void addRunOptions(CLI::App& app, RunRequest* req, RunOptionText* text, bool with_scenario);
 /// \brief Check what addRunOptions() bound (--dt a finite number). Throws UsageError.
 void finishRunOptions(const RunOptionText& text, RunRequest* req);

@@ -61,6 +61,7 @@ struct Job {
   RunConfig cfg;
   RunDigest digest;
   std::string json;
+  EnvelopeExit exit;  // the run's first exit from the flight envelope (exited false: none)
 };
 }  // namespace
 
@@ -261,6 +262,18 @@ int main(int argc, char** argv) {
           for (const auto& w : res.metrics.windows) job.digest.peak.push_back(w.peak_abs_e);
           job.digest.iae = res.metrics.iae;
           job.digest.max_abs_u = res.metrics.max_abs_u;
+          job.exit = res.envelope_exit;
+          if (res.envelope_exit.non_finite) {
+            // The run ended at its non-finite state: lost, as a run that went on in NaN was
+            // (summarizeFamily: IAE not finite, the window of the blow-up the largest peak).
+            job.digest.iae = INFINITY;
+            job.digest.max_abs_u = INFINITY;
+            for (size_t w = 0; w < res.metrics.windows.size(); ++w)
+              if (res.envelope_exit.non_finite_t <= res.metrics.windows[w].t_end) {
+                job.digest.peak[w] = INFINITY;
+                break;
+              }
+          }
           if (!out_dir.empty()) {
             RunInfo info;
             info.scenario = out_dir + "/scenario_" + std::to_string(job.scenario) + ".yaml";
@@ -324,6 +337,16 @@ int main(int argc, char** argv) {
                   s.worst_ratio, s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio,
                   s.iae_over, s.worst_u_rac, s.worst_u_oracle);
       if (s.lost_runs > 0) std::printf("%-15s %d runs lost (diverged)\n", m.c_str(), s.lost_runs);
+      nlohmann::ordered_json exits = nlohmann::ordered_json::array();
+      for (const auto& job : list) {
+        if (job.mode != m || !job.exit.exited) continue;
+        std::printf("%-15s scenario %d %s\n", m.c_str(), job.scenario,
+                    cli::envelopeNote(job.exit).c_str());
+        exits.push_back({{"scenario", job.scenario},
+                         {"t", job.exit.t},
+                         {"bound", job.exit.bound},
+                         {"non_finite", job.exit.non_finite}});
+      }
       if (json) {
         nlohmann::ordered_json o;
         o["mode"] = m;
@@ -345,6 +368,7 @@ int main(int argc, char** argv) {
         o["worst_u_oracle"] = s.worst_u_oracle;
         o["ratios"] = s.ratios;
         if (s.lost_runs > 0) o["lost_runs"] = s.lost_runs;
+        if (!exits.empty()) o["envelope_exits"] = exits;  // absent: every run stayed inside
         std::printf("%s\n", o.dump().c_str());
       }
     }

@@ -53,6 +53,9 @@ int main(int argc, char** argv) {
     run.info.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
+    // Said once, on stderr, whatever else is printed (the JSON line carries it as well).
+    if (res.envelope_exit.exited)
+      std::cerr << "preadapt_sim: " << cli::envelopeNote(res.envelope_exit) << std::endl;
     if (!csv.empty()) writeSeriesCsv(csv, res.series);
     if (!weights_out.empty()) saveWeights(weights_out, ctl->network().state());
     if (json) {

@@ -3,6 +3,7 @@
 /// --shard K/N runs one of N disjoint slices of the same run list (one per machine or cluster
 /// task); --merge combines the slices' outputs into the output of the unsharded sweep.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -252,6 +253,7 @@ int main(int argc, char** argv) {
     std::mutex mu;
     std::condition_variable cv;
     std::string failure;
+    std::vector<std::pair<size_t, std::string>> exits;  // runs that left the envelope
     auto worker = [&] {
       for (;;) {
         const size_t slot = next.fetch_add(1);
@@ -275,6 +277,12 @@ int main(int argc, char** argv) {
           for (const auto& kv : summary.items())
             if (!(no_wall_time && kv.key() == "wall_time_s")) out[kv.key()] = kv.value();
           line = out.dump();
+          if (res.envelope_exit.exited) {
+            std::lock_guard<std::mutex> lk(mu);
+            exits.emplace_back(i, "run " + std::to_string(i) + " (mode " + job.run.info.mode +
+                                      ", seed " + std::to_string(job.run.info.seed) +
+                                      "): " + cli::envelopeNote(res.envelope_exit));
+          }
         } catch (const std::exception& e) {
           std::lock_guard<std::mutex> lk(mu);
           if (failure.empty()) failure = "run " + std::to_string(i) + ": " + e.what();
@@ -300,6 +308,14 @@ int main(int argc, char** argv) {
     if (!failure.empty()) {
       std::cerr << "preadapt_sweep: error: " << failure << std::endl;
       return 1;
+    }
+    // The summary (stdout stays the JSON lines, whose envelope_exit says the same per run).
+    if (!exits.empty()) {
+      std::sort(exits.begin(), exits.end());
+      std::cerr << "preadapt_sweep: " << exits.size() << " of " << mine.size()
+                << " run(s) left the flight envelope:\n";
+      for (const auto& e : exits) std::cerr << "  " << e.second << '\n';
+      std::cerr << std::flush;
     }
     return 0;
   } catch (const cli::UsageError& e) {

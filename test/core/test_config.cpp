@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -163,6 +164,46 @@ TEST(Cli, JsonHasTheDocumentedFields) {
         "\"P\":[[", "\"events\":[", "\"windows\":[", "\"iae\":", "\"peak_abs_e\":",
         "\"max_abs_u\":", "\"wall_time_s\":", "\"recovery_time\":", "\"type\":\"onset\""})
     EXPECT_NE(last.find(key), std::string::npos) << key;
+}
+
+// Issue 35: a run that loses the aircraft says so: one stderr line with the time and the
+// bound, and the JSON's envelope_exit (null for a run that stayed inside, with nothing on
+// stderr). The issue's reproducer; the sweep names the run in its summary.
+TEST(Cli, LeavingTheEnvelopeIsSaidOnceWithTheTime) {
+  const std::string lost = tmpFile("lost.yaml",
+                                   "scenario:\n  name: lost\n  theta:\n"
+                                   "    - {until: 5.0, scale: 0.1}\n"
+                                   "    - {until: 60.0, scale: -5.0}\n"
+                                   "  reference:\n    - {until: 60.0, r: 0.1}\n");
+  const CmdResult r =
+      runCli("--scenario " + lost + " --mode rac --set plant.actuator.enabled=true --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto first = r.out.find("left the flight envelope");
+  ASSERT_NE(first, std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("left the flight envelope", first + 1), std::string::npos) << "once";
+  EXPECT_EQ(r.out.rfind("preadapt_sim: left the flight envelope at t = 5.", first),
+            first - std::string("preadapt_sim: ").size());
+  EXPECT_NE(r.out.find("(plant.envelope.max_pitch_rate); the run went on"), std::string::npos);
+  EXPECT_NE(r.out.find("\"envelope_exit\":{\"t\":5."), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"bound\":\"pitch_rate\""), std::string::npos);
+  EXPECT_NE(r.out.find("\"conditions\":{\"u_applied\":"), std::string::npos);
+  const CmdResult ok = runCli("--scenario 1 --mode rac --json");
+  ASSERT_EQ(ok.code, 0);
+  EXPECT_NE(ok.out.find("\"envelope_exit\":null"), std::string::npos);
+  EXPECT_EQ(ok.out.find("envelope_exit\":{"), std::string::npos);
+  EXPECT_EQ(ok.out.find("left the flight envelope"), std::string::npos);
+  EXPECT_EQ(std::count(ok.out.begin(), ok.out.end(), '\n'), 1) << "only the JSON line";
+  const CmdResult sw =
+      runBin(PMRAC_SWEEP_BIN,
+             "--scenario " + lost + " --modes rac --seeds 1 --set plant.actuator.enabled=true");
+  ASSERT_EQ(sw.code, 0) << sw.out;
+  EXPECT_NE(sw.out.find("preadapt_sweep: 1 of 1 run(s) left the flight envelope:\n  run 0 "
+                        "(mode rac, seed 1): left the flight envelope at t = 5."),
+            std::string::npos)
+      << sw.out;
+  const CmdResult bad = runCli("--scenario 1 --set plant.envelope.max_alpha=-1");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("plant.envelope.max_alpha"), std::string::npos) << bad.out;
 }
 
 // preadapt_sweep once crashed (SIGSEGV) on every run: it iterated over items() of a temporary.

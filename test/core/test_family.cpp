@@ -135,7 +135,11 @@ TEST(Family, SummaryCountsOnlyRepeatedWindows) {
 }
 
 #ifdef PMRAC_FAMILY_BIN
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <string>
 
 namespace {
@@ -148,6 +152,35 @@ int runTool(const std::string& args, std::string* out) {
   return WEXITSTATUS(st);
 }
 }  // namespace
+
+// Issue 35: runs that leave the flight envelope are named in the summary (a line per run and
+// the JSON's envelope_exits) and in runs.jsonl (envelope_exit); a family inside has neither.
+TEST(FamilyTool, NamesTheRunsThatLeftTheEnvelope) {
+  const std::string dir = "/tmp/pmrac_family_env_" + std::to_string(getpid());
+  std::string out;
+  ASSERT_EQ(runTool("--seed 3 --count 2 --modes rac --json --jobs 2 --out-dir " + dir +
+                        " --set plant.envelope.max_alpha=0.05",
+                    &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("\nrac             scenario 0 left the flight envelope at t = "),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("scenario 1 left the flight envelope"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"envelope_exits\":[{\"scenario\":0,"), std::string::npos) << out;
+  std::ifstream runs(dir + "/runs.jsonl");
+  std::string line;
+  int n = 0;
+  while (std::getline(runs, line)) {
+    EXPECT_NE(line.find("\"envelope_exit\":{\"t\":"), std::string::npos) << line.substr(0, 200);
+    EXPECT_NE(line.find("\"bound\":\"alpha\""), std::string::npos);
+    ++n;
+  }
+  EXPECT_EQ(n, 2);
+  ASSERT_EQ(runTool("--seed 3 --count 2 --modes rac --json --jobs 2", &out), 0) << out;
+  EXPECT_EQ(out.find("envelope"), std::string::npos) << out;
+  std::system(("rm -rf " + dir).c_str());
+}
 
 TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   std::string out;

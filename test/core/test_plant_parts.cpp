@@ -161,6 +161,47 @@ TEST(ScenarioPlant, EffectivenessScalesTheAppliedElevator) {
   EXPECT_FALSE(b.hasConditions());
 }
 
+// The conditions record (issue 34): every field has exactly one row of the table, the names
+// are distinct, and the record the closed loop keeps for step k is the plant's: the values
+// held over the step (read before it) with what the step did (read after it).
+TEST(PlantConditions, OneRowPerFieldAndTheLoopKeepsThePlantsRecord) {
+  EXPECT_EQ(sizeof(PlantConditions), kPlantConditionTable.size() * sizeof(double))
+      << "a field of PlantConditions without its row in kPlantConditionTable (or the reverse)";
+  for (size_t i = 0; i < kPlantConditionTable.size(); ++i)
+    for (size_t j = 0; j < i; ++j) {
+      EXPECT_STRNE(kPlantConditionTable[i].name, kPlantConditionTable[j].name);
+      EXPECT_NE(kPlantConditionTable[i].field, kPlantConditionTable[j].field);
+    }
+  RunConfig cfg = test::packageConfig("1");
+  cfg.plant.actuator.enabled = true;
+  cfg.plant.actuator.max_rate = 0.5;
+  cfg.plant.dynamics.time_constant = 0.05;
+  cfg.plant.turbulence.enabled = true;
+  cfg.plant.turbulence.sigma_w = 1.5;
+  cfg.plant.turbulence.length_scale = 533.4;
+  cfg.scenario.effectiveness = {{0.5, 1.0}, {60.0, 0.7}};
+  cfg.scenario.theta.resize(1);
+  cfg.scenario.theta[0].until = 1.0;
+  cfg.scenario.reference.resize(1);
+  cfg.scenario.reference[0].until = 1.0;
+  const SimResult res = test::simulate(cfg);
+  ScenarioPlant sim(cfg.plant, cfg.scenario, cfg.controller.sample_time);
+  ASSERT_EQ(res.series.conditions.size(), static_cast<size_t>(sim.totalSteps()));
+  int limited = 0;
+  for (size_t k = 0; k < res.series.conditions.size(); ++k) {
+    const PlantConditions& c = res.series.conditions[k];
+    EXPECT_EQ(c.effectiveness, sim.effectiveness()) << k;
+    EXPECT_EQ(c.w_gust, sim.gust()) << k;
+    sim.advance(res.series.u[k]);
+    EXPECT_EQ(c.u_applied, sim.lastApplied()) << k;
+    EXPECT_EQ(c.plant_limited, sim.lastLimited() ? 1.0 : 0.0) << k;
+    limited += sim.lastLimited() ? 1 : 0;
+  }
+  EXPECT_EQ(limited, res.plant_limited_steps);
+  EXPECT_EQ(res.series.conditions[0].effectiveness, 1.0);
+  EXPECT_EQ(res.series.conditions.back().effectiveness, 0.7);
+}
+
 // The gust enters as alpha_g = w_g / V through the alpha column of A in the alpha and q rows
 // (not the integrator's).
 TEST(ScenarioPlant, GustEntersThroughTheAlphaColumn) {
@@ -350,4 +391,78 @@ TEST(Config, DelayRangeOfTheTableIsMaxDelay) {
   EXPECT_NE(problems(t).find("plant.actuator.delay: must be in [0, 3600], got 3601"),
             std::string::npos)
       << problems(t);
+}
+
+// Issue 35: the flight envelope. The monitor keeps the first exit, names its bound and key,
+// and a state or command that is not finite is flagged whatever came first.
+TEST(Envelope, FirstExitKeptWithItsBoundAndNonFiniteFlagged) {
+  FlightEnvelope env;  // the table's B-747 defaults
+  EXPECT_TRUE(env.enabled);
+  EXPECT_DOUBLE_EQ(env.max_alpha, 0.2618);
+  EnvelopeMonitor m(env, 1);
+  PlantConditions c;
+  Vec x(3);
+  x << 0.0, 0.1, 0.1;
+  m.checkState(1, 0.001, x, 0.0, c);
+  m.checkCommand(1, 0.001, 1.0, x, c);
+  EXPECT_FALSE(m.exit().exited);
+  x << 0.0, -0.3, 0.5;  // alpha and q both beyond: alpha is named
+  m.checkState(7, 0.007, x, 0.2, c);
+  ASSERT_TRUE(m.exit().exited);
+  EXPECT_EQ(m.exit().bound, "alpha");
+  EXPECT_EQ(m.exit().key, "max_alpha");
+  EXPECT_EQ(m.exit().step, 7);
+  EXPECT_DOUBLE_EQ(m.exit().value, 0.3);
+  EXPECT_NE(m.exit().describe().find("plant.envelope.max_alpha"), std::string::npos);
+  m.checkCommand(8, 0.008, 2.0, x, c);  // a later exit does not replace the first
+  EXPECT_EQ(m.exit().bound, "alpha");
+  EXPECT_FALSE(m.nonFinite());
+  x[2] = NAN;
+  m.checkState(9, 0.009, x, 0.2, c);
+  EXPECT_TRUE(m.nonFinite());
+  EXPECT_EQ(m.exit().bound, "alpha");
+  EXPECT_DOUBLE_EQ(m.exit().non_finite_t, 0.009);
+  // Disabled: no bound, but a command that is not finite still ends the run.
+  env.enabled = false;
+  EnvelopeMonitor off(env, 1);
+  x << 0.0, 5.0, 5.0;
+  off.checkState(1, 0.001, x, 9.0, c);
+  off.checkCommand(1, 0.001, 9.0, x, c);
+  EXPECT_FALSE(off.exit().exited);
+  off.checkCommand(2, 0.002, NAN, x, c);
+  EXPECT_TRUE(off.nonFinite());
+  EXPECT_EQ(off.exit().bound, "non_finite");
+}
+
+// The issue's reproducer in the closed loop: theta turns destabilising at 5 s; the run leaves
+// the envelope within a second of it, says when and where, and (finite) goes on to its end.
+// A faster divergence reaches a state that is not finite and ends the run there.
+TEST(Envelope, ClosedLoopRecordsTheExitAndEndsAtANonFiniteState) {
+  RunConfig cfg = test::packageConfig("1");
+  EXPECT_FALSE(test::simulate(cfg).envelope_exit.exited);  // the paper's scenario 1 flies
+  cfg.plant.actuator.enabled = true;
+  Scenario lost = cfg.scenario;
+  lost.theta = {{5.0, Vec::Constant(3, 0.1)}, {60.0, Vec::Constant(3, -5.0)}};
+  cfg.scenario = lost;
+  const SimResult res = test::simulate(cfg);
+  ASSERT_TRUE(res.envelope_exit.exited);
+  EXPECT_GT(res.envelope_exit.t, 5.0);
+  EXPECT_LT(res.envelope_exit.t, 6.0);
+  EXPECT_FALSE(res.envelope_exit.non_finite);
+  EXPECT_EQ(res.steps, 60000);  // a finite excursion: the run goes on
+  EXPECT_EQ(res.envelope_exit.x.size(), 3);
+  const double q = std::abs(res.series.x[static_cast<size_t>(res.envelope_exit.step)][2]);
+  EXPECT_GT(q, 0.35);  // the recorded sample is the one beyond the bound
+  EXPECT_LE(std::abs(res.series.x[static_cast<size_t>(res.envelope_exit.step) - 1][2]), 0.35);
+
+  cfg.plant.actuator.enabled = false;
+  cfg.scenario.theta = {{0.5, Vec::Constant(3, 0.1)}, {60.0, Vec::Constant(3, -2000.0)}};
+  const SimResult nan_run = test::simulate(cfg);
+  ASSERT_TRUE(nan_run.envelope_exit.non_finite);
+  EXPECT_LT(nan_run.steps, 60000);
+  // The first non-finite number (here the command of step 513, from a theta_hat that
+  // overflowed on a state of 1e300) ends the run after that step.
+  EXPECT_NEAR(static_cast<double>(nan_run.steps) * 0.001, nan_run.envelope_exit.non_finite_t,
+              0.001 + 1e-12);
+  for (const Vec& x : nan_run.series.x) ASSERT_TRUE(x.allFinite());  // the controller saw none
 }

@@ -147,3 +147,56 @@ class TestConditionColumns(unittest.TestCase):
         (run,) = loading.load_runs(self.write(gust=0.0))
         self.assertIsNone(run.gust_w)
         self.assertIsNotNone(run.u_applied)
+
+    def test_a_new_condition_column_is_loaded_and_drawn_by_name(self):
+        """Issue 34: a condition the Python side has never heard of (here 'airspeed') comes in
+        by its column name and gets a figure of its own; a constant one gets none."""
+        from preadaptive_mrac.analysis import figures, metrics
+
+        path = os.path.join(self.dir, 'new_rac.csv')
+        with open(path, 'w') as f:
+            f.write(HEADER + ',u_applied,effectiveness,w_gust,plant_limited,airspeed\n')
+            for i in range(201):
+                row = [i * 0.01, 0, 0.1, 0, 0, 0.1, 0, 0, 0, 0.2, 1, 1, 1, 1, 1, 1, 0]
+                row += [0.1, 1, 0, 0, 274.0 - 0.01 * i]
+                f.write(','.join('%g' % v for v in row) + '\n')
+        (run,) = loading.load_runs(path)
+        self.assertEqual(
+            sorted(run.conditions),
+            ['airspeed', 'effectiveness', 'plant_limited', 'u_applied', 'w_gust'],
+        )
+        self.assertAlmostEqual(run.conditions['airspeed'][1][100], 273.0)
+        files = figures.write_figures(self.dir, [run], [metrics.run_metrics(run)], None)
+        names = sorted(os.path.basename(p) for p in files if 'condition_' in p)
+        self.assertEqual(names, ['condition_airspeed_new_rac.png'])
+
+
+class TestEnvelopeExit(unittest.TestCase):
+    """Issue 35: a run whose summary says it left the flight envelope is named at the top of
+    the report (analyze_bag's text), with the time and the bound; a run inside is not."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix='pmrac_envelope_')
+
+    def tearDown(self):
+        shutil.rmtree(self.dir)
+
+    def test_the_report_starts_with_the_exit(self):
+        from preadaptive_mrac.analysis import metrics, report
+
+        lost, flew = os.path.join(self.dir, 'lost.csv'), os.path.join(self.dir, 'flew.csv')
+        write_csv(lost)
+        write_csv(flew)
+        text = (
+            't = 5.29 s (step 5290): |q| = 0.3526 rad/s > 0.35 rad/s '
+            '(plant.envelope.max_pitch_rate)'
+        )
+        with open(os.path.join(self.dir, 'lost.json'), 'w') as f:
+            json.dump({'mode': 'rac', 'envelope_exit': {'t': 5.29, 'text': text}}, f)
+        with open(os.path.join(self.dir, 'flew.json'), 'w') as f:
+            json.dump({'mode': 'rac', 'envelope_exit': None}, f)
+        runs_ = loading.load_inputs([flew, lost])
+        self.assertEqual([r.envelope_exit for r in runs_], [None, text])
+        out = report.format_report([metrics.run_metrics(r) for r in runs_], None)
+        self.assertEqual(out.splitlines()[0], '!! run lost LEFT THE FLIGHT ENVELOPE at ' + text)
+        self.assertEqual(out.count('LEFT THE FLIGHT ENVELOPE'), 1)

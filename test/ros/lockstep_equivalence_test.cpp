@@ -35,6 +35,7 @@
 #include "preadaptive_mrac/ElevatorCommand.h"
 #include "preadaptive_mrac/PlantState.h"
 #include "preadaptive_mrac/PlantTruth.h"
+#include "preadaptive_mrac/core/sim/plant_conditions.hpp"
 
 namespace pm = preadaptive_mrac;
 
@@ -45,6 +46,8 @@ struct Recorded {
   std::uint64_t total = 0;
   std::vector<double> alpha, u, t;
   std::vector<double> elevator, elevator_command, gust, effectiveness;  // issue 20
+  std::map<std::string, std::vector<double>> conditions;  // PlantTruth.conditions by name
+  std::map<std::uint64_t, std::pair<std::string, double>> envelope;  // step: bound, t (issue 35)
   std::vector<std::vector<double>> theta_hat;
   std::vector<double> e;
   std::vector<int> state_seen, cmd_seen, status_seen;
@@ -209,6 +212,12 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
         if (rec.sized && m->step < rec.total) {
           rec.gust[m->step] = m->gust_w;
           rec.effectiveness[m->step] = m->effectiveness;
+          rec.envelope[m->step] = {m->envelope_bound, m->envelope_exit_t};
+          for (size_t i = 0; i < m->condition_names.size() && i < m->conditions.size(); ++i) {
+            auto& v = rec.conditions[m->condition_names[i]];
+            if (v.empty()) v.assign(rec.total, NAN);
+            v[m->step] = m->conditions[i];
+          }
         }
       },
       ros::VoidConstPtr(), hints);
@@ -321,6 +330,45 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
     EXPECT_GT(std::sqrt(gust_rms / static_cast<double>(n)), 0.1);
     std::printf("[lockstep %s] conditions: max |diff| elevator %.3g, command %.3g, gust %.3g\n",
                 mode_.c_str(), max_el, max_cmd, max_gust);
+    // The truth's record (issue 34): every row of the table, by name, equals its CSV column:
+    // held over [t, t + dt] at step k, or of the step before for the after-step rows.
+    for (const pm::PlantConditionColumn& c : pm::kPlantConditionTable) {
+      ASSERT_TRUE(rec.conditions.count(c.name)) << "PlantTruth has no condition " << c.name;
+      ASSERT_TRUE(cols.count(c.name)) << "the CSV has no column " << c.name;
+      const bool after = c.known == pm::ConditionKnown::kAfterStep;
+      double max_diff = 0.0;
+      size_t seen = 0;
+      for (size_t k = 0; k < n; ++k) {
+        const double got = rec.conditions.at(c.name)[k];
+        if (std::isnan(got)) continue;
+        const double want = after ? (k == 0 ? 0.0 : cols.at(c.name)[k - 1]) : cols.at(c.name)[k];
+        max_diff = std::max(max_diff, std::abs(got - want));
+        ++seen;
+      }
+      EXPECT_GT(seen, n / 2) << c.name;
+      EXPECT_LE(max_diff, 0.0) << "PlantTruth condition " << c.name;
+    }
+  }
+
+  // --- issue 35: the truth says the CLI's first exit from the flight envelope (its bound and
+  // time) from the sample after it on, and nothing before it.
+  {
+    const YAML::Node ex = json["envelope_exit"];
+    std::uint64_t from = rec.total, seen = 0;
+    if (ex && !ex.IsNull()) from = ex["step"].as<std::uint64_t>() + 1;
+    for (const auto& kv : rec.envelope) {
+      if (kv.first + 1 < from) {
+        EXPECT_EQ(kv.second.first, "") << "step " << kv.first;
+        EXPECT_EQ(kv.second.second, -1.0) << "step " << kv.first;
+      } else if (kv.first >= from) {
+        EXPECT_EQ(kv.second.first, ex["bound"].as<std::string>()) << "step " << kv.first;
+        EXPECT_EQ(kv.second.second, ex["t"].as<double>()) << "step " << kv.first;
+        ++seen;
+      }
+    }
+    if (from < rec.total) EXPECT_GT(seen, 0u) << "no truth after the envelope exit";
+    std::printf("[lockstep %s] envelope exit: %s\n", mode_.c_str(),
+                from < rec.total ? ex["text"].as<std::string>().c_str() : "none");
   }
 
   // --- events: count, type and time; pa_robust's decisions

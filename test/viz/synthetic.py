@@ -365,6 +365,14 @@ def make_messages(sim, classes):
         tr.step = step
         tr.theta = list(sim['theta'][i])
         tr.theta_scale = float(sim['theta'][i][0])
+        # issue 35: a run that left the flight envelope at sample sim['envelope_step']
+        if i >= sim.get('envelope_step', len(sim['t'])):
+            _set_opt(
+                tr,
+                envelope_bound=sim['envelope_bound'],
+                envelope_exit_t=float(sim['t'][sim['envelope_step']]),
+                envelope_exit=sim['envelope_text'],
+            )
         yield 'plant/truth', tr, t
         st = Status()
         st.header.stamp = stamp

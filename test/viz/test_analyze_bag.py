@@ -100,6 +100,30 @@ def tearDownModule():
         shutil.rmtree(Fixtures.dir, ignore_errors=True)
 
 
+class TestEnvelopeExitBag(unittest.TestCase):
+    """Issue 35: a bag whose truth says the plant left the flight envelope: analyze_bag's
+    report names the run, the time and the bound before anything else; a bag inside does not."""
+
+    def test_report_starts_with_the_exit(self):
+        f = Fixtures.make()
+        sim = dict(f.rac)
+        sim['envelope_step'] = 1500
+        sim['envelope_bound'] = 'alpha'
+        sim['envelope_text'] = (
+            't = %g s (step 1500): |alpha| = 0.3 rad > 0.2618 rad (plant.envelope.max_alpha)'
+            % sim['t'][1500]
+        )
+        bag = synthetic.write_bag(os.path.join(f.dir, 'lost.bag'), {'': sim}, f.classes)
+        rc, out, err = run_cli(bag, '--out', os.path.join(f.dir, 'out_lost'))
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(
+            out.splitlines()[0], '!! run lost LEFT THE FLIGHT ENVELOPE at ' + sim['envelope_text']
+        )
+        rc, out, err = run_cli(f.rac_bag, '--out', os.path.join(f.dir, 'out_inside'))
+        self.assertEqual(rc, 0, err)
+        self.assertNotIn('FLIGHT ENVELOPE', out)
+
+
 class TestCompareBag(unittest.TestCase):
     """A compare.launch-style bag: /rac/... and /pa/... in one file."""
 
@@ -748,6 +772,18 @@ class TestVizMarkersOffline(unittest.TestCase):
         v.alpha_ref = None
         v.tf_pub = None
         return v
+
+    def test_text_shows_the_envelope_exit(self):
+        """Issue 35: the rviz text names a run that left the flight envelope, in red."""
+        v = self._viz()
+        truth = self.classes['PlantTruth']()
+        truth.theta = [1.0, 1.0, 1.0]
+        inside = [m.text for m in v.texts(None, None, truth, None) if m.action == m.ADD]
+        self.assertFalse(any('FLIGHT ENVELOPE' in t for t in inside), inside)
+        truth.envelope_exit = 't = 0.503 s (step 503): |q| = 1.17 rad/s > 0.35 rad/s'
+        out = [m for m in v.texts(None, None, truth, None) if m.action == m.ADD]
+        self.assertEqual(out[1].text, 'LEFT THE FLIGHT ENVELOPE at ' + truth.envelope_exit)
+        self.assertEqual((out[1].color.r, out[1].color.g), (1.0, 0.2))
 
     def test_dynamic_subscriber_decodes_wire_bytes(self):
         cls = self.classes['PlantState']

@@ -54,11 +54,9 @@ struct Series {
   std::vector<double> t, e, e_dot, u, u_bl, u_ad, r;
   std::vector<Vec> x, x_r, theta_hat, theta_true;  ///< x: true state
   std::vector<int> phase, saturated;
-  /// The plant's conditions, recorded only when it has some (ScenarioPlant::hasConditions):
-  /// elevator applied [rad] (after delay, lag, limits), Lambda, gust w_g [m/s], and whether
-  /// the plant's limits changed the signal. Empty for the paper's ideal plant.
-  std::vector<double> u_applied, effectiveness, w_gust;
-  std::vector<int> plant_limited;
+  /// The plant's conditions over each step (core/sim/plant_conditions.hpp), recorded only when
+  /// it has some (ScenarioPlant::hasConditions). Empty for the paper's ideal plant.
+  std::vector<PlantConditions> conditions;
 };
 
 /// \brief Options of a batch run.
@@ -78,6 +76,9 @@ struct SimResult {
   std::int64_t steps = 0;                ///< samples run (fewer than the scenario's when stopped)
   bool stopped = false;                  ///< stopped early by SimOptions::stop_above
   std::int64_t plant_limited_steps = 0;  ///< steps the plant's limits changed the signal
+  /// The first exit from the plant's flight envelope (exited false: the run stayed inside). A
+  /// state or command that is not finite ends the run at that step (non_finite).
+  EnvelopeExit envelope_exit;
 };
 
 /// \brief The closed loop of a plant, a scenario and a controller.

@@ -66,6 +66,10 @@ struct RunInfo {
 };
 
 /// \brief The JSON summary of a run (keys in a fixed order).
+/// \brief The first exit from the flight envelope as the JSON outputs give it (`null` for a run
+/// that stayed inside): t, step, bound, key, value, limit, x, u_command, conditions (the
+/// plant's conditions record by name), non_finite, non_finite_t, text (one line).
+nlohmann::ordered_json envelopeExitJson(const EnvelopeExit& x);
 nlohmann::ordered_json runSummary(const RunInfo& info, const Controller& ctl, const SimResult& res);
 /// \brief One-line JSON summary of a run (the `--json` output and one sweep line).
 std::string runSummaryJson(const RunInfo& info, const Controller& ctl, const SimResult& res);

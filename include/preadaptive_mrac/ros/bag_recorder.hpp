@@ -91,10 +91,11 @@ class BagRecorder {
   ros::NodeHandle nh_;
   BagRecorderParams params_;
   bool closed_ = false;
-  std::string single_;  ///< the bag's path when not splitting (~output as given)
-  std::string base_;    ///< path of the split series, without `.bag`
-  std::string path_;    ///< the bag being written (final name, without `.active`)
-  int index_ = 0;       ///< split number
+  std::string envelope_exit_;  ///< the first PlantTruth.envelope_exit recorded ("" = none)
+  std::string single_;         ///< the bag's path when not splitting (~output as given)
+  std::string base_;           ///< path of the split series, without `.bag`
+  std::string path_;           ///< the bag being written (final name, without `.active`)
+  int index_ = 0;              ///< split number
   double opened_wall_ = 0.0;
   rosbag::Bag bag_;
   std::vector<ros::Subscriber> subs_;

@@ -113,6 +113,7 @@ class PlantSimNode {
   std::int64_t commands_received_ = 0, commands_ignored_ = 0;
   std::int64_t commands_rejected_ = 0;  ///< non-finite u: counted, never applied
   std::int64_t saturated_steps_ = 0;    ///< steps where the actuator limited the command
+  bool envelope_logged_ = false;        ///< the ERROR of the envelope exit was logged
   bool cmd_stale_ = false;              ///< the held command came from the staleness timer
   double last_cmd_wall_ = 0.0;          ///< wall time [s] of the last accepted command
   std::string last_rejection_;

@@ -50,6 +50,8 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   }
   // (absent: still air, without a note, as before the section existed)
   readChecked(r, prefix, static_cast<TurbulenceParams*>(&c.turbulence));
+  // (absent: the B-747 defaults, checked, without a note: a run inside reports as before)
+  readChecked(r, prefix, static_cast<FlightEnvelopeParams*>(&c.envelope));
   // The operating point documents where A and B come from; its airspeed U is the V of the
   // turbulence filter, so required when turbulence is on.
   const std::string uk = prefix + ".operating_point.U";

@@ -14,6 +14,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       actuator_(plant.dynamics, plant.actuator, dt > 0.0 ? dt : 1.0),
       gust_(plant.turbulence, plant.airspeed, dt > 0.0 ? dt : 1.0),
       has_lambda_(!scenario.effectiveness.empty()),
+      envelope_(plant.envelope, plant.output_index),
       noise_cfg_(plant.noise),
       noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {
@@ -39,6 +40,8 @@ void ScenarioPlant::reset() {
   limited_steps_ = 0;
   actuator_.reset();
   gust_.reset();
+  cond_ = PlantConditions();
+  envelope_.reset();
   theta_idx_ = r_idx_ = lambda_idx_ = 0;
   noise_.reseed(noise_cfg_.seed);
   sampleInputs();
@@ -56,8 +59,9 @@ void ScenarioPlant::sampleInputs() {
   theta_idx_ = ti;
   if (has_lambda_) {
     lambda_idx_ = scenario_.effectivenessIndexFrom(mid, lambda_idx_);
-    lambda_ = scenario_.effectiveness[lambda_idx_].value;
+    cond_.effectiveness = scenario_.effectiveness[lambda_idx_].value;
   }
+  cond_.w_gust = gust_.value();
   copyTo(plant_.state(), &measured_);
   if (noisy_)
     for (Eigen::Index i = 0; i < measured_.size(); ++i)
@@ -66,10 +70,13 @@ void ScenarioPlant::sampleInputs() {
 
 void ScenarioPlant::advance(double u) {
   u_cmd_ = u;
+  envelope_.checkCommand(k_, time(), u, plant_.state(), cond_);
   const double applied = actuator_.apply(u);
   if (actuator_.limited()) ++limited_steps_;
+  cond_.u_applied = applied;
+  cond_.plant_limited = actuator_.limited() ? 1.0 : 0.0;
   // Without a schedule the applied deflection goes in as it is: the paper's bits.
-  const double effect = has_lambda_ ? lambda_ * applied : applied;
+  const double effect = has_lambda_ ? cond_.effectiveness * applied : applied;
   if (gust_.active()) {
     disturbance_ = gustAlpha() * gust_col_;
     plant_.stepDisturbed(dt_, theta_, effect, r_, disturbance_);
@@ -79,6 +86,7 @@ void ScenarioPlant::advance(double u) {
   }
   ++k_;
   sampleInputs();
+  envelope_.checkState(k_, time(), plant_.state(), u, cond_);
 }
 
 }  // namespace preadaptive_mrac

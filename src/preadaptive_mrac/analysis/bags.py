@@ -3,7 +3,17 @@
 import os
 
 import numpy as np
-from .runs import EVENT_TYPES, InputError, REQUIRED, Run, TOPICS, WHY, _msg_decision, _rebase_epoch
+from .runs import (
+    EVENT_TYPES,
+    InputError,
+    REQUIRED,
+    Run,
+    TOPICS,
+    WHY,
+    _gust_from_conditions,
+    _msg_decision,
+    _rebase_epoch,
+)
 
 
 def _is_bag(path):
@@ -169,10 +179,29 @@ def _fill_from_bag(run, acc, path):
         commanded = np.array([m.elevator_command for m, _ in ps], dtype=float)
         if np.any(applied != commanded):
             run.t_applied, run.u_applied = run.t_alpha[1:] - dt, applied[1:]
-    if tr and hasattr(tr[0][0], 'gust_w'):
+    # The plant's conditions record by name (PlantTruth.conditions, issue 34): values of the
+    # previous step are moved to the step they belong to. Bags recorded before the record
+    # existed have gust_w alone.
+    if tr and getattr(tr[0][0], 'condition_names', None):
+        names = list(tr[0][0].condition_names)
+        prev = list(tr[0][0].condition_of_previous_step)
+        vals = np.array([list(m.conditions) for m, _ in tr], dtype=float)
+        for i, name in enumerate(names):
+            if i < len(prev) and prev[i] and dt:
+                run.conditions[name] = (run.t_theta[1:] - dt, vals[1:, i])
+            else:
+                run.conditions[name] = (run.t_theta, vals[:, i])
+        _gust_from_conditions(run)
+    elif tr and hasattr(tr[0][0], 'gust_w'):
         gust = np.array([m.gust_w for m, _ in tr], dtype=float)
         if np.any(gust != 0.0):
             run.t_gust, run.gust_w = run.t_theta, gust
+
+    # issue 35: the plant's first exit from the flight envelope (bags before it have no field)
+    for m, _ in tr:
+        if getattr(m, 'envelope_exit', ''):
+            run.envelope_exit = m.envelope_exit
+            break
 
     el = acc['elevator']
     if el:

@@ -3,10 +3,12 @@
 import csv
 import json
 import os
+import re
 import warnings
 
 import numpy as np
 from .runs import (
+    _gust_from_conditions,
     CSV_HEADER,
     CSV_REQUIRED,
     EVENT_TYPES,
@@ -40,6 +42,13 @@ def _parse_summary_json(path):
             except ValueError:
                 continue
     raise InputError(path, 'no JSON object in the file (expected the `--json` summary line)')
+
+
+# The columns preadapt_sim writes for every run (io/setup.cpp writeSeriesCsv); the others are
+# the plant's conditions.
+_FIXED_COLUMN = re.compile(
+    r'^(t|(x|xr|theta_hat|theta_true)\d+|e|e_dot_est|u|phase|u_baseline|u_adaptive|r|saturated)$'
+)
 
 
 def _load_csv(path):
@@ -85,17 +94,23 @@ def _load_csv(path):
     run.u_source = 'CSV column u'
     if 'u_baseline' in col and 'u_adaptive' in col:
         run.u_bl, run.u_ad = col['u_baseline'], col['u_adaptive']
-    # A run with plant conditions (docs/conditions.md) has these columns, values over
+    # A run with plant conditions (docs/conditions.md) has one column per row of the plant's
+    # conditions table (core/sim/plant_conditions.hpp) besides the fixed ones, values over
     # [t, t + dt] like u.
-    if 'u_applied' in col:
-        run.t_applied, run.u_applied = t, col['u_applied']
-    if 'w_gust' in col and np.any(col['w_gust'] != 0.0):
-        run.t_gust, run.gust_w = t, col['w_gust']
+    for h in header:
+        if not _FIXED_COLUMN.match(h):
+            run.conditions[h] = (t, col[h])
+    if 'u_applied' in run.conditions:
+        run.t_applied, run.u_applied = run.conditions['u_applied']
+    _gust_from_conditions(run)
 
     json_path = os.path.splitext(path)[0] + '.json'
     summary = None
     if os.path.exists(json_path):
         summary = _parse_summary_json(json_path)
+    exit_ = summary.get('envelope_exit') if summary is not None else None
+    if isinstance(exit_, dict) and exit_.get('text'):
+        run.envelope_exit = exit_['text']
     if summary is not None and isinstance(summary.get('mode'), str):
         run.mode = summary['mode']
         run.mode_from = os.path.basename(json_path)

@@ -203,6 +203,33 @@ def plot_elevator(plt, run, m, path, xlim=None):
     plt.close(fig)
 
 
+# Conditions of the record (core/sim/plant_conditions.hpp) with a display of their own; every
+# other condition a run has and that changes gets a figure of its own by name (plot_condition),
+# so a new condition is drawn without an edit here.
+CONDITIONS_SHOWN_ELSEWHERE = {
+    'u_applied': 'the elevator figure',
+    'w_gust': 'the gust figure',
+    'effectiveness': 'the scenario schedule (not drawn)',
+    'plant_limited': 'a flag (the saturation count, not drawn)',
+}
+
+
+def plot_condition(plt, run, m, name, path, xlim=None):
+    """One condition of the plant's conditions record over time (name as in the CSV)."""
+    t, v = run.conditions[name]
+    fig, ax = plt.subplots(figsize=(10, 3.5))
+    ax.plot(t, v, color='tab:green', lw=0.9, label=name)
+    _switch_lines(ax, m)
+    ax.set_ylabel(name)
+    ax.set_xlabel('time $t$ [s]')
+    ax.set_title("Plant condition %s: run '%s'" % (name, run.label))
+    _legend(ax)
+    _ylim_to_xlim(ax, [(t, v)], xlim)
+    _xlim(ax, xlim)
+    _save(fig, path)
+    plt.close(fig)
+
+
 def plot_gust(plt, run, m, path, xlim=None):
     """The Dryden vertical gust of a run with turbulence (docs/conditions.md)."""
     fig, ax = plt.subplots(figsize=(11, 3.8))
@@ -315,6 +342,12 @@ def write_figures(out_dir, runs, metrics, comparison, c_e=0.005, xlim=None):
         if r.gust_w is not None:
             p = os.path.join(out_dir, 'gust_%s.png' % s)
             plot_gust(plt, r, m, p, xlim)
+            files.append(p)
+        for name, (_, v) in sorted(r.conditions.items()):
+            if name in CONDITIONS_SHOWN_ELSEWHERE or len(v) == 0 or np.all(v == v[0]):
+                continue
+            p = os.path.join(out_dir, 'condition_%s_%s.png' % (_safe(name), s))
+            plot_condition(plt, r, m, name, p, xlim)
             files.append(p)
         if any(ev.get('decision') for ev in r.events):
             p = os.path.join(out_dir, 'decisions_%s.png' % s)

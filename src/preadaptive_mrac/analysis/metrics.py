@@ -158,6 +158,7 @@ def run_metrics(run):
         ],
         'param_changes': [dict(c) for c in run.param_changes],
         'notes': list(run.notes),
+        'envelope_exit': getattr(run, 'envelope_exit', None),
     }
 
 

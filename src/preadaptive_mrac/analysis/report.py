@@ -32,6 +32,14 @@ def _theta_text(scale, vec):
 
 def format_report(metrics, comparison):
     lines = []
+    # issue 35: a run that lost the aircraft says so before anything else
+    for m in metrics:
+        if m.get('envelope_exit'):
+            lines.append(
+                "!! run %s LEFT THE FLIGHT ENVELOPE at %s" % (m['label'], m['envelope_exit'])
+            )
+    if lines:
+        lines.append('')
     for m in metrics:
         w = m['whole_run']
         lines.append(

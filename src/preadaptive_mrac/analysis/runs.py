@@ -3,6 +3,8 @@ and the decoding shared by the bag and CSV readers."""
 
 import os
 
+import numpy as np
+
 from .. import modes as _modes
 from ..modes import MODE_TEXT, MODES  # noqa: F401 (the package's names for them)
 
@@ -71,6 +73,10 @@ class Run:
       t_applied, u_applied                           elevator applied by the plant (after the
                                                      servo's delay, lag, limits), None without
       t_gust, gust_w                                 Dryden vertical gust [m/s], None without
+      conditions                                     the plant's conditions record
+                                                     (core/sim/plant_conditions.hpp) by name:
+                                                     {name: (t, values)}, values over
+                                                     [t, t + dt]; {} without conditions
     events: list of dicts with keys type (one of EVENT_TYPES), t, e, e_dot,
       theta_hat_before, theta_hat_after, reset, cost, grad, learned, episodes (None where
       the source does not say), and pa_robust's verification: decision (one of DECISIONS,
@@ -95,6 +101,10 @@ class Run:
         # issue 20: what the elevator did and the gust (None: the source has no conditions)
         self.t_applied = self.u_applied = None
         self.t_gust = self.gust_w = None
+        self.conditions = {}
+        # issue 35: the plant's first exit from the flight envelope, one line (None: stayed
+        # inside, or the source does not say)
+        self.envelope_exit = None
         self.summary = None  # the batch CLI's --json object, for a CSV input
         # dynamic_reconfigure changes (controller/param_change): dicts t, step, name,
         # old_value, new_value; drawn as markers on the time plots
@@ -106,6 +116,14 @@ class Run:
 
 
 _guess_mode = _modes.guess_mode
+
+
+def _gust_from_conditions(run):
+    """The Dryden gust of the conditions record, when there is one and it is not still air."""
+    if 'w_gust' in run.conditions:
+        t, w = run.conditions['w_gust']
+        if np.any(w != 0.0):
+            run.t_gust, run.gust_w = t, w
 
 
 def _no_decision():

@@ -213,6 +213,10 @@ class VizMarkers:
                 _color(1, 1, 1),
             )
         )
+        # issue 35: a run that left the flight envelope says so, in red, under the time
+        if truth is not None and getattr(truth, 'envelope_exit', ''):
+            text = 'LEFT THE FLIGHT ENVELOPE at ' + truth.envelope_exit
+            lines.append((text, _color(1, 0.2, 0.2)))
         if state is not None:
             lines.append(
                 (
@@ -274,7 +278,7 @@ class VizMarkers:
             m.color = col
             m.text = txt
             out.append(m)
-        for i in range(len(lines), 6):  # keep ids stable: remove lines no longer shown
+        for i in range(len(lines), 7):  # keep ids stable: remove lines no longer shown
             m = self._marker('text', i, Marker.TEXT_VIEW_FACING, self.world)
             m.action = Marker.DELETE
             out.append(m)

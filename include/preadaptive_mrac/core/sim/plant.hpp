@@ -6,6 +6,7 @@
 #include <random>
 #include <string>
 
+#include "preadaptive_mrac/core/sim/envelope.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 #include "preadaptive_mrac/params/plant_params.hpp"
 
@@ -76,6 +77,7 @@ struct PlantConfig : PlantParams {
   MeasurementNoise noise;       ///< added to what the plant publishes as measured
   ActuatorDynamics dynamics;    ///< servo delay and lag (the controller is not told)
   TurbulenceConfig turbulence;  ///< Dryden vertical gust (the controller is not told)
+  FlightEnvelope envelope;      ///< bounds the plant checks on every step (issue 35)
 
   int n() const { return static_cast<int>(A.rows()); }
   /// \brief Read the `plant` section; problems go to the reader.

@@ -6,7 +6,9 @@
 #include <cstdint>
 
 #include "preadaptive_mrac/core/sim/actuator.hpp"
+#include "preadaptive_mrac/core/sim/envelope.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
+#include "preadaptive_mrac/core/sim/plant_conditions.hpp"
 #include "preadaptive_mrac/core/sim/scenario.hpp"
 #include "preadaptive_mrac/core/sim/turbulence.hpp"
 
@@ -38,10 +40,14 @@ class ScenarioPlant {
   const Vec& measured() const { return measured_; }
   double reference() const { return r_; }
   const Vec& theta() const { return theta_; }
+  /// \brief The conditions record at t_k (plant_conditions.hpp): the values held over the
+  /// coming step, and what the last step did (its applied elevator and limit flag; 0 before
+  /// the first step).
+  const PlantConditions& conditions() const { return cond_; }
   /// \brief Elevator effectiveness Lambda held over the coming step (1 without a schedule).
-  double effectiveness() const { return lambda_; }
+  double effectiveness() const { return cond_.effectiveness; }
   /// \brief Vertical gust w_g [m/s] held over the coming step (0 without turbulence).
-  double gust() const { return gust_.value(); }
+  double gust() const { return cond_.w_gust; }
   /// \brief The angle-of-attack disturbance alpha_g = w_g / V [rad] of the coming step.
   double gustAlpha() const { return gust_.value() * inv_airspeed_; }
   /// \brief Integrate [t_k, t_k + dt] with the elevator command u [rad] through the actuator
@@ -49,16 +55,21 @@ class ScenarioPlant {
   void advance(double u);
   /// \brief Elevator deflection applied over the last step [rad]: the command after delay, lag
   /// and limits, before the effectiveness Lambda (the surface's angle, not its effect).
-  double lastApplied() const { return actuator_.applied(); }
+  double lastApplied() const { return cond_.u_applied; }
   /// \brief The command given to the last advance() [rad].
   double lastCommand() const { return u_cmd_; }
   /// \brief The limits changed the (delayed, lagged) command of the last step.
-  bool lastLimited() const { return actuator_.limited(); }
+  bool lastLimited() const { return cond_.plant_limited != 0.0; }
   /// \brief Steps since reset() in which the limits changed the signal (the saturation count).
   std::int64_t limitedSteps() const { return limited_steps_; }
   /// \brief Delay, lag, an effectiveness schedule or turbulence are configured (the paper's
   /// ideal plant otherwise, limits or not).
   bool hasConditions() const { return conditions_; }
+  /// \brief The first exit from the flight envelope (plant.envelope) since reset(): the
+  /// command given to advance() is checked at t_k, the state reached at t_k + dt.
+  const EnvelopeExit& envelopeExit() const { return envelope_.exit(); }
+  /// \brief A state or command was not finite: nothing after it means anything, end the run.
+  bool nonFinite() const { return envelope_.nonFinite(); }
   const Plant& plant() const { return plant_; }
   const Scenario& scenario() const { return scenario_; }
 
@@ -75,7 +86,8 @@ class ScenarioPlant {
   Vec gust_col_, disturbance_;  // g, and g alpha_g of the current step
   double inv_airspeed_ = 0.0;
   bool has_lambda_ = false;  // the scenario schedules Lambda
-  double lambda_ = 1.0;
+  PlantConditions cond_;
+  EnvelopeMonitor envelope_;
   bool conditions_ = false;
   MeasurementNoise noise_cfg_;
   bool noisy_ = false;  // noise_cfg_.active(), once
