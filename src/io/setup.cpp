@@ -46,7 +46,7 @@ namespace {
 // Which keys a design failure is about, so the message names what to fix: the model the
 // controller designs on is controller.model.A (and .B) when that is given, else the plant's.
 std::string keysForCause(const std::string& cause, const DesignModel& model) {
-  const std::string a = model.A.size() > 0 ? "controller.model.A"
+  const std::string a = model.A.size() > 0   ? "controller.model.A"
                         : model.B.size() > 0 ? "controller.model.B"
                                              : "plant.A";
   if (cause == "not_stabilizable") return a;

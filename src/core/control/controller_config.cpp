@@ -29,7 +29,8 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
   }
   // The design model: each key optional, absent = the plant's (without a note, so a run
   // without the section reports byte for byte what it reported before it).
-  if (r.has(p + ".model.A")) c.model.A = r.getMatrix(p + ".model.A", n > 0 ? n : -1, n > 0 ? n : -1);
+  if (r.has(p + ".model.A"))
+    c.model.A = r.getMatrix(p + ".model.A", n > 0 ? n : -1, n > 0 ? n : -1);
   if (r.has(p + ".model.B")) c.model.B = r.getVector(p + ".model.B", n > 0 ? n : -1);
   if (r.has(p + ".model.B1r")) c.model.B1r = r.getVector(p + ".model.B1r", n > 0 ? n : -1);
   c.robust = RobustConfig::read(r, p + ".robust");

@@ -65,6 +65,19 @@ def family(seed, count, noise, out_dir=None, extra=(), modes=None):
     return text, rows
 
 
+def summary_cells(r):
+    """A mode's family summary as table cells: better and halved [%], median and worst peak
+    ratio, worst IAE ratio, scenarios with IAE > +5 %."""
+    return (
+        100 * r["frac_better"],
+        100 * r["frac_halved"],
+        r["median_ratio"],
+        r["worst_ratio"],
+        r["worst_iae_ratio"],
+        r["iae_over_5pct"],
+    )
+
+
 def table(rows_by_noise, seed, count):
     out = []
     for noise, rows in rows_by_noise:
@@ -82,17 +95,7 @@ def table(rows_by_noise, seed, count):
             r = rows[m]
             out.append(
                 "| %s | %.1f %% | %.1f %% | %.3f | %.3f | %.3f | %d | %.2f | %.2f |"
-                % (
-                    m,
-                    100 * r["frac_better"],
-                    100 * r["frac_halved"],
-                    r["median_ratio"],
-                    r["worst_ratio"],
-                    r["worst_iae_ratio"],
-                    r["iae_over_5pct"],
-                    r["worst_u_rac"],
-                    r["worst_u_oracle"],
-                )
+                % ((m,) + summary_cells(r) + (r["worst_u_rac"], r["worst_u_oracle"]))
             )
         out.append("")
     return "\n".join(out)
@@ -106,7 +109,7 @@ def max_peaks(runs_jsonl):
         for line in f:
             r = json.loads(line)
             p = r["peak_abs_e"]
-            ok = isinstance(p, (int, float)) and math.isfinite(p) and math.isfinite(r["iae"])
+            ok = all(isinstance(v, (int, float)) and math.isfinite(v) for v in (p, r["iae"]))
             peak[r["mode"]] = max(peak.get(r["mode"], 0.0), p if ok else math.inf)
             lost[r["mode"]] = lost.get(r["mode"], 0) + (not ok)
     return peak, lost
@@ -140,18 +143,7 @@ def condition_table(results, seed, count, noise, modes):
             r = rows[m]
             out.append(
                 "| `%s` | %s | %.1f %% | %.1f %% | %.3f | %.3g | %.3g | %d | %.3g | %d |"
-                % (
-                    condition or "(none)",
-                    m,
-                    100 * r["frac_better"],
-                    100 * r["frac_halved"],
-                    r["median_ratio"],
-                    r["worst_ratio"],
-                    r["worst_iae_ratio"],
-                    r["iae_over_5pct"],
-                    peak[m],
-                    lost[m],
-                )
+                % ((condition or "(none)", m) + summary_cells(r) + (peak[m], lost[m]))
             )
         out.append(
             "| `%s` | rac | | | | | | | %.3g | %d |"

@@ -6,9 +6,8 @@
 /// generated into ControllerParams, RobustParams, L1Params and ControllerTunableParams
 /// (preadaptive_mrac/params/*_params.hpp); what no table row can say is checked here.
 
-#include <string>
-
 #include <Eigen/Dense>
+#include <string>
 
 #include "preadaptive_mrac/core/control/l1_config.hpp"
 #include "preadaptive_mrac/core/robust/robust_config.hpp"
@@ -23,8 +22,8 @@ struct PlantConfig;
 /// \brief The controller's own design model (optional section `controller.model`, issue 36):
 /// each part left out (size 0 here) is the plant's.
 struct DesignModel {
-  Eigen::MatrixXd A;  ///< `controller.model.A` (empty: `plant.A`)
-  Eigen::VectorXd B;  ///< `controller.model.B` (empty: `plant.B`)
+  Eigen::MatrixXd A;    ///< `controller.model.A` (empty: `plant.A`)
+  Eigen::VectorXd B;    ///< `controller.model.B` (empty: `plant.B`)
   Eigen::VectorXd B1r;  ///< `controller.model.B1r` (empty: `plant.B1r`)
   bool empty() const { return A.size() == 0 && B.size() == 0 && B1r.size() == 0; }
 };
