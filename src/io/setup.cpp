@@ -43,13 +43,17 @@ std::string defaultPlantPath() { return configDir() + "/plant/b747.yaml"; }
 std::string defaultControllerPath() { return configDir() + "/controller/default.yaml"; }
 
 namespace {
-// Which keys a design failure is about, so the message names what to fix.
-std::string keysForCause(const std::string& cause) {
-  if (cause == "not_stabilizable") return "plant.A";
+// Which keys a design failure is about, so the message names what to fix: the model the
+// controller designs on is controller.model.A (and .B) when that is given, else the plant's.
+std::string keysForCause(const std::string& cause, const DesignModel& model) {
+  const std::string a = model.A.size() > 0   ? "controller.model.A"
+                        : model.B.size() > 0 ? "controller.model.B"
+                                             : "plant.A";
+  if (cause == "not_stabilizable") return a;
   if (cause == "q_not_psd" || cause == "q_not_symmetric" || cause == "hamiltonian_imaginary_axis")
     return "controller.lqr.Q";
   if (cause == "r_not_positive") return "controller.lqr.R";
-  return "plant.A";
+  return a;
 }
 }  // namespace
 
@@ -81,9 +85,10 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   }
   if (sections.plant && sections.controller && r.ok()) {
     try {
-      rc.design = designController(rc.plant.A, rc.plant.B, rc.controller.Q, rc.controller.R);
+      rc.design = Controller::designOf(rc.controller.designPlant(rc.plant), rc.controller);
     } catch (const SolverError& e) {
-      r.fail(keysForCause(e.cause()), std::string(e.what()) + " [" + e.cause() + "]");
+      r.fail(keysForCause(e.cause(), rc.controller.model),
+             std::string(e.what()) + " [" + e.cause() + "]");
     }
   }
   r.throwIfProblems();

@@ -220,12 +220,15 @@ def struct_text(table, name, rows):
         '  template <class F>\n'
         '  static void forEachSection(F&& f) {\n'
     )
-    for row in rows:
-        if row['type'] == 'section' and 'table' not in row:
-            out.append(
-                '    f("%s", "%s");\n' % (row['key'], row['absent_note'].replace('"', '\\"'))
-            )
-    if not any(r['type'] == 'section' and 'table' not in r for r in rows):
+    # (a section `optional_unnoted` is absent without a note: controller.model)
+    noted = [
+        r
+        for r in rows
+        if r['type'] == 'section' and 'table' not in r and r['presence'] != 'optional_unnoted'
+    ]
+    for row in noted:
+        out.append('    f("%s", "%s");\n' % (row['key'], row['absent_note'].replace('"', '\\"')))
+    if not noted:
         out.append('    (void)f;  // no section of its own\n')
     out.append('  }\n')
     if 'structs' in table:

@@ -34,7 +34,11 @@ const char* kAbout =
     "--turbulence run every mode under those plant conditions (docs/conditions.md); each takes "
     "one value or a range LO:HI, drawn uniformly per scenario from the family seed (the same "
     "for every mode; --effectiveness LO:HI draws one Lambda per regime, the first segment 1), "
-    "reported in runs.jsonl as drawn_conditions. Exit code 2 on bad input.";
+    "reported in runs.jsonl as drawn_conditions. --mismatch M runs every scenario on a true plant "
+    "whose alpha and q rows of A and entries of B are each scaled by a factor uniform in [1 - M, "
+    "1 + M] (drawn per scenario from the family seed, the rest of the family unchanged), while "
+    "the controller designs on the nominal plant (controller.model); runs.jsonl records each "
+    "scenario's true A and B and the factors (docs/mismatch.md). Exit code 2 on bad input.";
 
 // "LO:HI" of a condition flag, each end within [min, max] (min excluded when min_open).
 ConditionRange parseRange(const std::string& flag, const std::string& text, double min,
@@ -79,7 +83,7 @@ int main(int argc, char** argv) {
     CLI::App app{kAbout, "preadapt_family"};
     cli::RunOptionText text;
     std::string seed_t, count_t, modes_t, noise_t, regimes_t, segments_t, ref_t, jobs_t;
-    std::string delay_t, lag_t, lambda_t, gust_t;
+    std::string delay_t, lag_t, lambda_t, gust_t, mismatch_t;
     cli::addRunOptions(app, &base, &text, false);
     cli::addText(app, "--seed", &seed_t, "the family's generator seed (required)");
     cli::addText(app, "--count", &count_t, "scenarios (default 30)");
@@ -102,6 +106,10 @@ int main(int argc, char** argv) {
                  "Dryden vertical gust sigma_w [m/s] (plant.turbulence, its length scale from "
                  "the YAML; the gust seed is derived from the family seed and the scenario): one "
                  "value, or LO:HI drawn per scenario");
+    cli::addText(app, "--mismatch", &mismatch_t,
+                 "model mismatch M in [0, 1): the true plant's alpha and q rows of A and B "
+                 "scaled per entry by factors uniform in [1 - M, 1 + M], drawn per scenario; the "
+                 "controller keeps the nominal model (default 0: the plant is the model)");
     cli::addText(app, "--out-dir", &out_dir, "write the scenarios and every run's JSON here");
     app.add_flag("--json", json, "also print one JSON line per mode with every ratio");
     cli::addText(app, "--jobs", &jobs_t, "threads (default: all cores)");
@@ -170,6 +178,15 @@ int main(int argc, char** argv) {
                               lambda_t);
       conditions += (conditions.empty() ? "" : ", ") + std::string("effectiveness ") + lambda_t;
     }
+    double mismatch = 0.0;
+    if (!mismatch_t.empty()) {
+      mismatch = cli::parseDouble("--mismatch", mismatch_t);
+      if (!(mismatch >= 0.0 && mismatch < 1.0))
+        throw cli::UsageError("--mismatch: expected M in [0, 1), got " + mismatch_t);
+      if (mismatch > 0.0)
+        conditions += (conditions.empty() ? "" : ", ") + std::string("model mismatch ") +
+                      mismatch_t + " (per scenario)";
+    }
     if (spec.regimes < 1 || spec.regimes > 50) throw cli::UsageError("--regimes: expected 1..50");
     if (spec.segments < 2 * spec.regimes || spec.segments > 1000)
       throw cli::UsageError("--segments: expected 2 * regimes .. 1000");
@@ -181,6 +198,8 @@ int main(int argc, char** argv) {
     probe.scenario = "1";
     const cli::PreparedRun prepared = cli::prepare(probe);
     spec.n = prepared.cfg.plant.n();
+    if (!mismatch_t.empty() && (spec.n < 3 || prepared.cfg.plant.output_index != 1))
+      throw cli::UsageError("--mismatch: needs the plant's x = [e_I, alpha, q] (output_index 1)");
     if (!out_dir.empty()) ::mkdir(out_dir.c_str(), 0755);
 
     std::vector<Scenario> scenarios;
@@ -218,6 +237,27 @@ int main(int argc, char** argv) {
       const auto lag = draw(k, lag_r, 2, "plant.actuator.time_constant");
       const auto gust = draw(k, gust_r, 3, "plant.turbulence.sigma_w");
       repeated.push_back(repeatedWindows(scenarios.back()));
+      // The true plant: drawn from a stream of its own, so no other value of the family moves.
+      std::optional<PlantMismatch> truth;
+      if (!mismatch_t.empty()) {
+        truth = mismatchedPlant(prepared.cfg.plant.A, prepared.cfg.plant.B, mismatch, *seed, k);
+        if (mismatch > 0.0) {
+          auto& d = drawn[static_cast<size_t>(k)];
+          d["plant.A"] = nlohmann::ordered_json::array();
+          for (Eigen::Index i = 0; i < truth->A.rows(); ++i) {
+            auto row = nlohmann::ordered_json::array();
+            for (Eigen::Index j = 0; j < truth->A.cols(); ++j) row.push_back(truth->A(i, j));
+            d["plant.A"].push_back(row);
+          }
+          d["plant.B"] = nlohmann::ordered_json::array();
+          for (Eigen::Index i = 0; i < truth->B.size(); ++i) d["plant.B"].push_back(truth->B[i]);
+          d["mismatch_factors"] = truth->factors;
+          for (const double f : truth->factors) {
+            auto it = span.emplace("mismatch factor", std::make_pair(f, f)).first;
+            it->second = {std::min(it->second.first, f), std::max(it->second.second, f)};
+          }
+        }
+      }
       if (!out_dir.empty()) {
         std::ofstream f(out_dir + "/scenario_" + std::to_string(k) + ".yaml");
         f << scenarioToYaml(scenarios.back());
@@ -238,6 +278,14 @@ int main(int argc, char** argv) {
         if (delay) job.cfg.plant.dynamics.delay = *delay;
         if (lag) job.cfg.plant.dynamics.time_constant = *lag;
         if (gust) job.cfg.plant.turbulence.sigma_w = *gust;
+        if (truth) {
+          // The controller designs on the nominal plant, the run is on the true one.
+          job.cfg.controller.model.A = prepared.cfg.plant.A;
+          job.cfg.controller.model.B = prepared.cfg.plant.B;
+          job.cfg.controller.model.B1r = prepared.cfg.plant.B1r;
+          job.cfg.plant.A = truth->A;
+          job.cfg.plant.B = truth->B;
+        }
         // A gust of its own per scenario, the same for every mode (paired comparison).
         if (!gust_t.empty())
           job.cfg.plant.turbulence.seed = *seed * 1000033ULL + static_cast<std::uint64_t>(k);

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -10,6 +11,7 @@
 
 #include "preadaptive_mrac/core/control/controller.hpp"
 #include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/params/modes_params.hpp"
 #include "test_helpers.hpp"
 
@@ -296,4 +298,158 @@ TEST(ModeRegistry, EveryTableRowIsARegisteredLawAndStrategy) {
     EXPECT_EQ(m.truth, ctl.needsTruth()) << m.name << ": " << ctl.truthUse();
   }
   EXPECT_EQ(std::string(modes[0].name), "rac");  // the reproduction's baseline leads
+}
+
+// Issue 36 item 1: controller.model, the controller's own design model.
+namespace {
+ParamValue matrixValue(const Eigen::MatrixXd& m) {
+  std::vector<ParamValue> rows;
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    std::vector<ParamValue> row;
+    for (Eigen::Index j = 0; j < m.cols(); ++j) row.push_back(ParamValue::makeDouble(m(i, j)));
+    rows.push_back(ParamValue::makeList(row));
+  }
+  return ParamValue::makeList(rows);
+}
+ParamValue vectorValue(const Eigen::VectorXd& v) {
+  std::vector<ParamValue> l;
+  for (Eigen::Index i = 0; i < v.size(); ++i) l.push_back(ParamValue::makeDouble(v[i]));
+  return ParamValue::makeList(l);
+}
+// A plant that differs from the package's B-747 in every aerodynamic entry.
+void otherPlant(Eigen::MatrixXd* A, Eigen::VectorXd* B, Eigen::VectorXd* B1r) {
+  *A = test::packageConfig("1").plant.A;
+  *B = test::packageConfig("1").plant.B;
+  *B1r = test::packageConfig("1").plant.B1r;
+  A->row(1) *= 1.3;
+  A->row(2) *= 0.75;
+  (*B)[1] *= 0.6;
+  (*B)[2] *= 1.4;
+  (*B1r)[0] = -2.0;
+}
+}  // namespace
+
+TEST(DesignModel, AbsentIsThePlantsAndGivenIsDesignedOn) {
+  const RunConfig plain = test::packageConfig("1");
+  EXPECT_TRUE(plain.controller.model.empty());
+  ASSERT_TRUE(plain.design.has_value());
+  const ControllerDesign own =
+      designController(plain.plant.A, plain.plant.B, plain.controller.Q, plain.controller.R);
+  EXPECT_EQ(plain.design->K, own.K);  // bit for bit: the plant's own design
+  EXPECT_EQ(plain.design->P, own.P);
+  Eigen::MatrixXd A;
+  Eigen::VectorXd B, B1r;
+  otherPlant(&A, &B, &B1r);
+  ParamValue t = test::packageTree();
+  t.setPath("controller.model.A", matrixValue(A));
+  t.setPath("controller.model.B", vectorValue(B));
+  const RunConfig c = readRunConfig(t);
+  EXPECT_EQ(c.controller.model.A, A);
+  EXPECT_EQ(c.controller.model.B1r.size(), 0);  // left out: the plant's
+  const PlantConfig m = c.controller.designPlant(c.plant);
+  EXPECT_EQ(m.A, A);
+  EXPECT_EQ(m.B, B);
+  EXPECT_EQ(m.B1r, c.plant.B1r);
+  EXPECT_EQ(c.plant.A, plain.plant.A);  // the plant itself is untouched
+  const ControllerDesign d = designController(A, B, c.controller.Q, c.controller.R);
+  EXPECT_EQ(c.design->K, d.K);
+  EXPECT_EQ(Controller(c.plant, c.controller).design().K, d.K);
+  EXPECT_NE(d.K, own.K);
+}
+
+// Every law and strategy sees the plant only through the model: a controller on plant P with
+// controller.model = Q answers every sample exactly as one built on plant Q without a model.
+TEST(DesignModel, EveryModeUsesTheModelNotThePlant) {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd B, B1r;
+  otherPlant(&A, &B, &B1r);
+  for (const ModeEntry& mode : modeRegistry()) {
+    RunConfig cfg = test::packageConfig("1");
+    cfg.controller.mode = mode.name;
+    PlantConfig q = cfg.plant;
+    q.A = A;
+    q.B = B;
+    q.B1r = B1r;
+    ControllerConfig with_model = cfg.controller;
+    with_model.model.A = A;
+    with_model.model.B = B;
+    with_model.model.B1r = B1r;
+    Controller on_model(cfg.plant, with_model);
+    Controller on_q(q, cfg.controller);
+    Controller on_p(cfg.plant, cfg.controller);
+    Vec x(3), theta(3);
+    theta << 2.0, -1.0, 0.5;
+    bool differs_from_p = false;
+    for (int k = 0; k < 3000; ++k) {
+      const double t = k * cfg.controller.sample_time;
+      x << 0.01 * std::sin(t), 0.05 * std::sin(3.0 * t) + 0.02, 0.1 * std::cos(2.0 * t);
+      StepInput in;
+      in.t = t;
+      in.x = &x;
+      in.r = 0.1;
+      in.theta_true = &theta;
+      const StepOutput a = on_model.step(in), b = on_q.step(in), c = on_p.step(in);
+      ASSERT_EQ(a.u, b.u) << mode.name << " at sample " << k;
+      ASSERT_EQ(a.theta_hat, b.theta_hat) << mode.name << " at sample " << k;
+      ASSERT_EQ(a.x_ref, b.x_ref) << mode.name << " at sample " << k;
+      differs_from_p = differs_from_p || a.u != c.u;
+    }
+    EXPECT_TRUE(differs_from_p) << mode.name << ": the model changed nothing";
+  }
+}
+
+TEST(DesignModel, BadModelsAreRefusedNamingTheKey) {
+  const auto problems = [](const std::string& key, const ParamValue& v,
+                           const std::string& key2 = "", const ParamValue* v2 = nullptr) {
+    ParamValue t = test::packageTree();
+    t.setPath(key, v);
+    if (v2) t.setPath(key2, *v2);
+    return problemsOf(t);
+  };
+  auto ps = problems("controller.model.A", matrixValue(Eigen::MatrixXd::Identity(2, 2)));
+  EXPECT_TRUE(mentions(ps, "controller.model.A: expected 3 rows, got 2")) << joined(ps);
+  ps = problems("controller.model.B", vectorValue(Eigen::VectorXd::Ones(4)));
+  EXPECT_TRUE(mentions(ps, "controller.model.B: expected 3 numbers")) << joined(ps);
+  ps = problems("controller.model.B1r", vectorValue(Eigen::VectorXd::Ones(2)));
+  EXPECT_TRUE(mentions(ps, "controller.model.B1r: expected 3 numbers")) << joined(ps);
+  Eigen::MatrixXd A = test::packageConfig("1").plant.A;
+  A(2, 1) = std::nan("");
+  ps = problems("controller.model.A", matrixValue(A));
+  EXPECT_TRUE(mentions(ps, "controller.model.A[2][1]: expected a finite number")) << joined(ps);
+  Eigen::VectorXd B = Eigen::VectorXd::Zero(3);
+  B[2] = INFINITY;
+  ps = problems("controller.model.B", vectorValue(B));
+  EXPECT_TRUE(mentions(ps, "controller.model.B")) << joined(ps);
+  ps = problems("controller.model.B", vectorValue(Eigen::VectorXd::Zero(3)));
+  EXPECT_TRUE(mentions(ps, "controller.model.B: must not be all zero")) << joined(ps);
+  // alpha unstable and out of B's reach: (A, B) not stabilisable, the CARE has no solution.
+  Eigen::MatrixXd U(3, 3);
+  U << 0, 1, 0, 0, 1, 0, 0, 0, -1;
+  const ParamValue b_q = vectorValue(Eigen::Vector3d(0, 0, 1));
+  ps = problems("controller.model.A", matrixValue(U), "controller.model.B", &b_q);
+  EXPECT_TRUE(mentions(ps, "controller.model.A: (A, B) is not stabilisable")) << joined(ps);
+  // The same B alone against the plant's A is stabilisable (q drives alpha): accepted.
+  EXPECT_TRUE(problems("controller.model.B", b_q).empty());
+  // A mode on the imaginary axis out of B's reach: no stabilising solution, A_r not Hurwitz.
+  Eigen::MatrixXd Z(3, 3);
+  Z << 0, 1, 0, 0, 0, 0, 0, 0, -1;
+  ps = problems("controller.model.A", matrixValue(Z), "controller.model.B", &b_q);
+  EXPECT_TRUE(mentions(ps, "controller.model.A: ")) << joined(ps);
+  EXPECT_EQ(ps.size(), 1u) << joined(ps);
+  ps = problems("controller.model.C", ParamValue::makeDouble(1));
+  EXPECT_TRUE(mentions(ps, "controller.model.C: unknown key")) << joined(ps);
+}
+
+TEST(Cli, DesignModelBySet) {
+  CmdResult r = runCli(
+      "--scenario 1 --mode rac --json --set "
+      "'controller.model.A=[[0,1,0],[0,-0.4,0.9],[0,-1.1,-0.5]]'");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const CmdResult plain = runCli("--scenario 1 --mode rac --json");
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  const auto K = [](const std::string& out) { return out.substr(out.find("\"K\""), 80); };
+  EXPECT_NE(K(r.out), K(plain.out));  // designed on the model
+  r = runCli("--scenario 1 --mode rac --set 'controller.model.A=[[0,1],[0,-0.4]]'");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("controller.model.A: expected 3 rows, got 2"), std::string::npos) << r.out;
 }

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 #include "preadaptive_mrac/core/sim/scenario_family.hpp"
@@ -182,6 +185,51 @@ TEST(FamilyTool, NamesTheRunsThatLeftTheEnvelope) {
   std::system(("rm -rf " + dir).c_str());
 }
 
+// Issue 36: --mismatch is deterministic, leaves every other value of the family as it was (M = 0
+// is the family without the flag, byte for byte), and records each scenario's true A and B.
+TEST(FamilyTool, MismatchIsDeterministicAndZeroIsTheFamily) {
+  const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_mismatch";
+  const std::string common = "--seed 11 --count 2 --segments 6 --modes pa_robust --jobs 2 --json";
+  // One --out-dir for every run (runs.jsonl names the scenario files by path).
+  struct Family {
+    std::string out, runs, scenario;
+  };
+  const auto family = [&](const std::string& flags) {
+    Family f;
+    EXPECT_EQ(runTool(common + flags + " --out-dir " + dir, &f.out), 0) << f.out;
+    const auto read = [&](const std::string& name) {
+      std::ifstream in(dir + "/" + name);
+      return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    f.runs = read("runs.jsonl");
+    f.scenario = read("scenario_1.yaml");
+    std::filesystem::remove_all(dir);
+    return f;
+  };
+  const Family plain = family(""), zero = family(" --mismatch 0");
+  const Family a = family(" --mismatch 0.5"), b = family(" --mismatch 0.5");
+  EXPECT_EQ(plain.out, zero.out);
+  EXPECT_TRUE(plain.runs == zero.runs);
+  EXPECT_FALSE(plain.runs.empty());
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_TRUE(a.runs == b.runs);
+  EXPECT_NE(a.out, plain.out);
+  EXPECT_NE(a.out.find("plant conditions: model mismatch 0.5 (per scenario)"), std::string::npos)
+      << a.out;
+  EXPECT_NE(a.out.find("drawn: mismatch factor in ["), std::string::npos) << a.out;
+  EXPECT_NE(a.runs.find("\"drawn_conditions\":{\"plant.A\":[[0.0,1.0,0.0],[0.0,"),
+            std::string::npos);
+  EXPECT_NE(a.runs.find("\"plant.B\":[0.0,"), std::string::npos);
+  EXPECT_NE(a.runs.find("\"mismatch_factors\":["), std::string::npos);
+  // The draw moves no theta: the same scenario files.
+  EXPECT_FALSE(a.scenario.empty());
+  EXPECT_EQ(plain.scenario, a.scenario);
+  std::string out;
+  EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --mismatch 1", &out), 2);
+  EXPECT_NE(out.find("--mismatch: expected M in [0, 1)"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --mismatch -0.1", &out), 2);
+}
+
 TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   std::string out;
   ASSERT_EQ(runTool("--seed 3 --count 2 --modes pa_robust,oracle --json --jobs 2", &out), 0) << out;
@@ -196,6 +244,46 @@ TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   EXPECT_NE(out.find("controller.robust.margin"), std::string::npos) << out;
 }
 #endif
+
+// Issue 36: the true plant of --mismatch M: the alpha and q rows of A and B scaled per entry by
+// factors in [1 - M, 1 + M], deterministic per (seed, scenario), M = 0 the nominal plant.
+TEST(Family, MismatchedPlantDrawsFactorsInRangeDeterministically) {
+  Eigen::MatrixXd A(3, 3);
+  A << 0.0, 1.0, 0.0, 0.0, -0.32, 0.86, 0.0, -0.93, -0.43;
+  Eigen::VectorXd B(3);
+  B << 0.0, -0.02, -1.16;
+  double lo = 2.0, hi = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    const PlantMismatch m = mismatchedPlant(A, B, 0.3, 4711, k);
+    ASSERT_EQ(m.factors.size(), 8u);  // A(1, 0..2), A(2, 0..2), B(1), B(2)
+    for (const double f : m.factors) {
+      EXPECT_GE(f, 0.7);
+      EXPECT_LE(f, 1.3);
+      lo = std::min(lo, f);
+      hi = std::max(hi, f);
+    }
+    EXPECT_EQ(m.A.row(0), A.row(0));  // the integrator row is kinematics: unchanged
+    EXPECT_EQ(m.B[0], B[0]);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(m.A(1, j), A(1, j) * m.factors[static_cast<size_t>(j)]);
+      EXPECT_EQ(m.A(2, j), A(2, j) * m.factors[static_cast<size_t>(3 + j)]);
+    }
+    EXPECT_EQ(m.B[1], B[1] * m.factors[6]);
+    EXPECT_EQ(m.B[2], B[2] * m.factors[7]);
+    const PlantMismatch again = mismatchedPlant(A, B, 0.3, 4711, k);
+    EXPECT_EQ(again.A, m.A);
+    EXPECT_EQ(again.B, m.B);
+    const PlantMismatch none = mismatchedPlant(A, B, 0.0, 4711, k);
+    EXPECT_EQ(none.A, A);
+    EXPECT_EQ(none.B, B);
+  }
+  EXPECT_LT(lo, 0.72);  // spread over the range
+  EXPECT_GT(hi, 1.28);
+  EXPECT_NE(mismatchedPlant(A, B, 0.3, 4711, 0).A, mismatchedPlant(A, B, 0.3, 4711, 1).A);
+  EXPECT_NE(mismatchedPlant(A, B, 0.3, 4711, 0).A, mismatchedPlant(A, B, 0.3, 4712, 0).A);
+  EXPECT_THROW(mismatchedPlant(A, B, 1.0, 1, 0), std::invalid_argument);
+  EXPECT_THROW(mismatchedPlant(A.topLeftCorner(2, 2), B.head(2), 0.1, 1, 0), std::invalid_argument);
+}
 
 TEST(Family, ALostRunCountsAsWorstNotBetter) {
   // A run that diverges in window 1: its later windows hold peak 0 (|e| NaN compares false) and

@@ -34,7 +34,8 @@ struct RunConfig {
   /// "full name = value" of every optional key or section that was absent and defaulted
   /// (what a node logs at start-up, so no default is silent).
   std::vector<std::string> defaults_used;
-  /// K (CARE) and P (Lyapunov) of plant.A, plant.B, controller.Q and controller.R as read:
+  /// K (CARE) and P (Lyapunov) of the design model (controller.model, else plant.A, plant.B),
+  /// controller.Q and controller.R as read:
   /// validation solves them anyway, and a Controller built from this configuration can take
   /// them instead of solving again. Empty unless both sections were read.
   std::optional<ControllerDesign> design;

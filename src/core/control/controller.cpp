@@ -12,39 +12,50 @@
 
 namespace preadaptive_mrac {
 
+// The controller knows the plant only through its design model (controller.model; the plant's
+// A, B, B1r where a part is absent): the LQR, the reference model and every law and strategy
+// below are built on `model`, never on the plant's own matrices.
 Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
-    : Controller(plant, cfg, designController(plant.A, plant.B, cfg.Q, cfg.R)) {}
+    : Controller(plant, cfg, designOf(cfg.designPlant(plant), cfg)) {}
+
+ControllerDesign Controller::designOf(const PlantConfig& model, const ControllerConfig& cfg) {
+  return designController(model.A, model.B, cfg.Q, cfg.R);
+}
 
 Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg,
                        const ControllerDesign& design)
+    : Controller(cfg.designPlant(plant), cfg, design, 0) {}
+
+Controller::Controller(const PlantConfig& model, const ControllerConfig& cfg,
+                       const ControllerDesign& design, int)
     : cfg_(cfg),
       design_(design),
-      n_(plant.n()),
-      out_(plant.output_index),
+      n_(model.n()),
+      out_(model.output_index),
       dt_(cfg.sample_time),
       vel_(cfg.tau, cfg.sample_time),
       attention_(cfg.c_e, cfg.c_ed, cfg.confirm_samples, cfg.hysteresis),
-      net_(cfg.hidden, plant.n(), cfg.seed, cfg.init_scale) {
+      net_(cfg.hidden, model.n(), cfg.seed, cfg.init_scale) {
   K_ = design_.K.transpose();
-  B_ = plant.B;
-  PB_ = design_.P * plant.B;
-  b_ref_ = plant.B1r + cfg.k0 * plant.B;
+  B_ = model.B;
+  PB_ = design_.P * model.B;
+  b_ref_ = model.B1r + cfg.k0 * model.B;
   const Eigen::MatrixXd M = design_.Ar * dt_;
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n_, n_);
   const Eigen::MatrixXd M2 = M * M, M3 = M2 * M, M4 = M3 * M;
   // Classic RK4 applied to x_r' = A_r x_r + b r with r held: exactly these polynomials.
   Phi_r_ = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
   Gam_r_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * b_ref_;
-  x0_ = plant.x0;
+  x0_ = model.x0;
   ev_.setZero(n_);
-  limits_ = plant.actuator;
+  limits_ = model.actuator;
   const ModeEntry* mode = findMode(cfg.mode);
   if (mode == nullptr)
     throw std::invalid_argument("controller.mode: expected one of " + modeNames(", ") + ", got '" +
                                 cfg.mode + "'");
   ModeContext ctx;
   ctx.cfg = &cfg_;
-  ctx.plant = &plant;
+  ctx.plant = &model;
   ctx.design = &design_;
   ctx.B = &B_;
   ctx.PB = &PB_;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/schema/param_table.hpp"
+#include "preadaptive_mrac/core/sim/plant.hpp"
 
 namespace preadaptive_mrac {
 
@@ -26,6 +27,12 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
       r.fail(fb, std::string("expected one of ") + choiceNames(c.elevator_feedback) + ", got '" +
                      v + "'");
   }
+  // The design model: each key optional, absent = the plant's (without a note, so a run
+  // without the section reports byte for byte what it reported before it).
+  if (r.has(p + ".model.A"))
+    c.model.A = r.getMatrix(p + ".model.A", n > 0 ? n : -1, n > 0 ? n : -1);
+  if (r.has(p + ".model.B")) c.model.B = r.getVector(p + ".model.B", n > 0 ? n : -1);
+  if (r.has(p + ".model.B1r")) c.model.B1r = r.getVector(p + ".model.B1r", n > 0 ? n : -1);
   c.robust = RobustConfig::read(r, p + ".robust");
   c.l1 = L1Config::read(r, p + ".l1");
   c.validate(r, n, p);
@@ -41,6 +48,15 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
       r.usable(p + ".adaptation.theta_hat0") && theta_hat0.norm() > theta_max)
     r.fail(p + ".adaptation.theta_hat0",
            "lies outside Omega (norm " + formatNumber(theta_hat0.norm()) + " > theta_max)");
+  const auto finite = [&](const std::string& key, const Eigen::MatrixXd& m) {
+    if (m.size() > 0 && r.usable(key) && !m.allFinite())
+      r.fail(key, "must be finite numbers (the controller designs on it)");
+  };
+  finite(p + ".model.A", model.A);
+  finite(p + ".model.B", model.B);
+  finite(p + ".model.B1r", model.B1r);
+  if (model.B.size() > 0 && r.usable(p + ".model.B") && model.B.isZero(0.0))
+    r.fail(p + ".model.B", "must not be all zero");
   if (r.has(p + ".robust")) robust.validate(r, p + ".robust");
   if (r.has(p + ".l1")) l1.validate(r, p + ".l1", sample_time);
   if (n > 0 && Q.rows() == n && Q.cols() == n && r.usable(p + ".lqr.Q")) {
@@ -50,6 +66,14 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
              -1e-12 * std::max(1.0, Q.norm()))
       r.fail(p + ".lqr.Q", "must be positive semi-definite");
   }
+}
+
+PlantConfig ControllerConfig::designPlant(const PlantConfig& plant) const {
+  PlantConfig m = plant;
+  if (model.A.size() > 0) m.A = model.A;
+  if (model.B.size() > 0) m.B = model.B;
+  if (model.B1r.size() > 0) m.B1r = model.B1r;
+  return m;
 }
 
 ControllerTunables ControllerTunables::of(const ControllerConfig& c) {

@@ -92,6 +92,25 @@ double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
   return u.in(range.lo, range.hi);
 }
 
+PlantMismatch mismatchedPlant(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, double M,
+                              std::uint64_t seed, int index) {
+  if (A.rows() < 3 || A.cols() != A.rows() || B.size() != A.rows())
+    throw std::invalid_argument("mismatch: needs the plant's x = [e_I, alpha, q] (n >= 3)");
+  if (!(M >= 0.0 && M < 1.0)) throw std::invalid_argument("mismatch: M must be in [0, 1)");
+  PlantMismatch out{A, B, {}};
+  // Stream 2001: apart from the theta draws (mix(seed, index)), the conditions (1, 2, 3) and
+  // the Lambdas (1000 + k).
+  Uniform u(mix(mix(seed, static_cast<std::uint64_t>(index)), 2001));
+  const auto factor = [&] {
+    out.factors.push_back(u.in(1.0 - M, 1.0 + M));
+    return out.factors.back();
+  };
+  for (Eigen::Index i = 1; i <= 2; ++i)
+    for (Eigen::Index j = 0; j < A.cols(); ++j) out.A(i, j) *= factor();
+  for (Eigen::Index i = 1; i <= 2; ++i) out.B[i] *= factor();
+  return out;
+}
+
 std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
                                                                 const ConditionRange& range,
                                                                 std::uint64_t seed, int index) {

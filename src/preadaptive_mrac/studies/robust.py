@@ -1,9 +1,14 @@
 """Robust-preadaptation study (scripts/robust_study): the unseen scenario family with and without
-sensor noise -> table.md, ratios.png, timeseries.png."""
+sensor noise -> table.md, ratios.png, timeseries.png. With --condition (repeatable: the
+preadapt_family flags of one plant condition, e.g. "--mismatch 0.3 --delay 0:0.04"): one family
+per condition at the first noise level, and table.md holds one row per condition and mode with
+the largest whole-run peak |e| of any run from runs.jsonl (docs/mismatch.md, docs/robust.md)."""
 
 import argparse
 import json
+import math
 import os
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -36,7 +41,7 @@ def tool(name):
     return path
 
 
-def family(seed, count, noise, out_dir=None):
+def family(seed, count, noise, out_dir=None, extra=(), modes=None):
     cmd = [
         tool("preadapt_family"),
         "--seed",
@@ -46,9 +51,9 @@ def family(seed, count, noise, out_dir=None):
         "--noise",
         repr(noise),
         "--modes",
-        ",".join(MODES),
+        ",".join(modes or MODES),
         "--json",
-    ]
+    ] + list(extra)
     if out_dir:
         cmd += ["--out-dir", out_dir]
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
@@ -58,6 +63,19 @@ def family(seed, count, noise, out_dir=None):
             row = json.loads(line)
             rows[row["mode"]] = row
     return text, rows
+
+
+def summary_cells(r):
+    """A mode's family summary as table cells: better and halved [%], median and worst peak
+    ratio, worst IAE ratio, scenarios with IAE > +5 %."""
+    return (
+        100 * r["frac_better"],
+        100 * r["frac_halved"],
+        r["median_ratio"],
+        r["worst_ratio"],
+        r["worst_iae_ratio"],
+        r["iae_over_5pct"],
+    )
 
 
 def table(rows_by_noise, seed, count):
@@ -77,20 +95,61 @@ def table(rows_by_noise, seed, count):
             r = rows[m]
             out.append(
                 "| %s | %.1f %% | %.1f %% | %.3f | %.3f | %.3f | %d | %.2f | %.2f |"
-                % (
-                    m,
-                    100 * r["frac_better"],
-                    100 * r["frac_halved"],
-                    r["median_ratio"],
-                    r["worst_ratio"],
-                    r["worst_iae_ratio"],
-                    r["iae_over_5pct"],
-                    r["worst_u_rac"],
-                    r["worst_u_oracle"],
-                )
+                % ((m,) + summary_cells(r) + (r["worst_u_rac"], r["worst_u_oracle"]))
             )
         out.append("")
     return "\n".join(out)
+
+
+def max_peaks(runs_jsonl):
+    """mode -> the largest whole-run peak |e| of any of its runs (inf for a run whose peak is not
+    a finite number: a lost run) and the number of such runs."""
+    peak, lost = {}, {}
+    with open(runs_jsonl) as f:
+        for line in f:
+            r = json.loads(line)
+            p = r["peak_abs_e"]
+            ok = all(isinstance(v, (int, float)) and math.isfinite(v) for v in (p, r["iae"]))
+            peak[r["mode"]] = max(peak.get(r["mode"], 0.0), p if ok else math.inf)
+            lost[r["mode"]] = lost.get(r["mode"], 0) + (not ok)
+    return peak, lost
+
+
+def condition_rows(seed, count, noise, condition, modes, tmp):
+    """One family under `condition` (preadapt_family flags): its command, the summary rows by
+    mode, and the max peak and lost runs by mode."""
+    extra = shlex.split(condition)
+    out_dir = os.path.join(tmp, "family")
+    _, rows = family(seed, count, noise, out_dir, extra, modes)
+    peak, lost = max_peaks(os.path.join(out_dir, "runs.jsonl"))
+    return rows, peak, lost
+
+
+def condition_table(results, seed, count, noise, modes):
+    """results: [(condition, rows, peak, lost)] -> Markdown, one row per condition and mode."""
+    out = [
+        "Family seed %d, %d scenarios, noise %g rad (rad/s) on alpha and q; %d repeated-switch "
+        "windows per family:\n" % (seed, count, noise, results[0][1]["rac"]["windows"]),
+        "    preadapt_family --seed %d --count %d --noise %g --modes %s --json --out-dir D "
+        "<condition>\n" % (seed, count, noise, ",".join(modes)),
+        "| condition | mode | better | halved | median | worst | worst IAE ratio | "
+        "IAE > +5 % | max peak [rad] | lost runs |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for condition, rows, peak, lost in results:
+        for m in modes:
+            if m == "rac":
+                continue
+            r = rows[m]
+            out.append(
+                "| `%s` | %s | %.1f %% | %.1f %% | %.3f | %.3g | %.3g | %d | %.3g | %d |"
+                % ((condition or "(none)", m) + summary_cells(r) + (peak[m], lost[m]))
+            )
+        out.append(
+            "| `%s` | rac | | | | | | | %.3g | %d |"
+            % (condition or "(none)", peak["rac"], lost["rac"])
+        )
+    return "\n".join(out) + "\n"
 
 
 def ratio_figure(rows_by_noise, path):
@@ -209,8 +268,30 @@ def main(description=None, argv=None):
     p.add_argument("--noise", default="0,1e-4")
     p.add_argument("--scenario-index", type=int, default=0)
     p.add_argument("--out", default=os.path.join(ROOT, "docs", "figures", "robust"))
+    p.add_argument(
+        "--condition",
+        action="append",
+        default=[],
+        help="preadapt_family flags of one plant condition (repeatable): one family each, "
+        "table.md with max peaks, no figures",
+    )
+    p.add_argument("--modes", default=",".join(MODES))
     a = p.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
+    if a.condition:
+        modes = ["rac"] + [m for m in a.modes.split(",") if m != "rac"]
+        noise = float(a.noise.split(",")[0])
+        results = []
+        for condition in a.condition:
+            with tempfile.TemporaryDirectory() as tmp:
+                rows, peak, lost = condition_rows(a.seed, a.count, noise, condition, modes, tmp)
+            results.append((condition, rows, peak, lost))
+        text = condition_table(results, a.seed, a.count, noise, modes)
+        with open(os.path.join(a.out, "table.md"), "w") as f:
+            f.write(text)
+        print(text)
+        print("robust_study: table.md in %s" % a.out)
+        return 0
     rows_by_noise = []
     with tempfile.TemporaryDirectory() as tmp:
         for noise in [float(x) for x in a.noise.split(",")]:

@@ -58,12 +58,15 @@ struct StepOutput {
 /// adaptivecontrol) and the sensitivity advance to t_k + dt.
 class Controller {
  public:
-  /// \brief Derives K (CARE) and P (Lyapunov) from the plant's A, B and the config's Q, R;
-  /// throws SolverError when that is impossible. The plant is known only through A, B, B1r.
+  /// \brief Derives K (CARE) and P (Lyapunov) from the design model's A, B (cfg.model, the
+  /// plant's where absent: ControllerConfig::designPlant) and the config's Q, R; throws
+  /// SolverError when that is impossible. The plant is known only through that model.
   Controller(const PlantConfig& plant, const ControllerConfig& cfg);
-  /// \brief The same with K and P already solved: `design` must be designController() of
-  /// plant.A, plant.B, cfg.Q and cfg.R (RunConfig::design).
+  /// \brief The same with K and P already solved: `design` must be designOf() the design
+  /// model (RunConfig::design).
   Controller(const PlantConfig& plant, const ControllerConfig& cfg, const ControllerDesign& design);
+  /// \brief K and P of a design model (cfg.designPlant(plant)) with cfg's Q and R.
+  static ControllerDesign designOf(const PlantConfig& model, const ControllerConfig& cfg);
   /// \brief A snapshot: the copy has its own network and strategy state.
   Controller(const Controller& other);
   Controller& operator=(const Controller& other);
@@ -112,6 +115,9 @@ class Controller {
   bool keepsAtRecovery() const { return strategy_->keepsAtRecovery(); }
 
  private:
+  /// The constructor proper: `model` is the design model (cfg.designPlant of the plant).
+  Controller(const PlantConfig& model, const ControllerConfig& cfg, const ControllerDesign& design,
+             int);
   ControllerConfig cfg_;
   ControllerDesign design_;
   int n_, out_;

@@ -6,6 +6,7 @@
 /// generated into ControllerParams, RobustParams, L1Params and ControllerTunableParams
 /// (preadaptive_mrac/params/*_params.hpp); what no table row can say is checked here.
 
+#include <Eigen/Dense>
 #include <string>
 
 #include "preadaptive_mrac/core/control/l1_config.hpp"
@@ -16,11 +17,26 @@
 namespace preadaptive_mrac {
 
 class ParamReader;
+struct PlantConfig;
+
+/// \brief The controller's own design model (optional section `controller.model`, issue 36):
+/// each part left out (size 0 here) is the plant's.
+struct DesignModel {
+  Eigen::MatrixXd A;    ///< `controller.model.A` (empty: `plant.A`)
+  Eigen::VectorXd B;    ///< `controller.model.B` (empty: `plant.B`)
+  Eigen::VectorXd B1r;  ///< `controller.model.B1r` (empty: `plant.B1r`)
+  bool empty() const { return A.size() == 0 && B.size() == 0 && B1r.size() == 0; }
+};
 
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig : ControllerParams {
   RobustConfig robust;  ///< pa_robust (optional section `controller.robust`)
   L1Config l1;          ///< mode l1 (optional section `controller.l1`; docs/l1.md)
+  DesignModel model;    ///< what the controller designs on (optional `controller.model`)
+
+  /// \brief The plant as the controller knows it: `plant` with A, B and B1r replaced by those
+  /// of `model` that are given (the plant's own when `model` is empty: the same values).
+  PlantConfig designPlant(const PlantConfig& plant) const;
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   /// The mode's name is checked against the registry where the parts are put together

@@ -49,6 +49,22 @@ std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& 
                                                                 const ConditionRange& range,
                                                                 std::uint64_t seed, int index);
 
+/// \brief A true plant that differs from the controller's model (issue 36, `--mismatch M`).
+struct PlantMismatch {
+  Eigen::MatrixXd A;            ///< the true A
+  Eigen::VectorXd B;            ///< the true B
+  std::vector<double> factors;  ///< the factors in the order drawn (A's rows, then B's entries)
+};
+
+/// \brief Scenario `index`'s true plant of family `seed`: every entry of the alpha and q rows of
+/// A (rows 1 and 2 of x = [e_I, alpha, q], all n columns: the aerodynamic derivatives Z/mU and
+/// M/Iy; zeros stay zero) and of B (entries 1 and 2) each scaled by its own factor, uniform in
+/// [1 - M, 1 + M], drawn in the order A(1,0..n-1), A(2,0..n-1), B(1), B(2) from a stream of
+/// its own (apart from the theta draws and the conditions' streams, so the rest of the family
+/// is unchanged). M = 0 gives factors 1 (A and B unchanged). Needs n >= 3 and 0 <= M < 1.
+PlantMismatch mismatchedPlant(const Eigen::MatrixXd& A, const Eigen::VectorXd& B, double M,
+                              std::uint64_t seed, int index);
+
 /// \brief Windows (0 = the first segment) whose theta equals that of an earlier segment.
 std::vector<bool> repeatedWindows(const Scenario& s);
 
