@@ -29,6 +29,8 @@ pmrac_library(preadaptive_mrac_core
   src/core/sim/actuator.cpp
   src/core/sim/turbulence.cpp
   src/core/sim/scenario_plant.cpp
+  src/core/sim/jsbsim/jsbsim_process.cpp
+  src/core/sim/jsbsim/jsbsim_plant.cpp
   src/core/sim/scenario.cpp
   src/core/control/network.cpp
   src/core/control/controller_config.cpp

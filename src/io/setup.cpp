@@ -218,6 +218,9 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   // the ideal plant writes the same bytes as before they existed.
   const bool cond = !s.u_applied.empty();
   if (cond) header += ",u_applied,effectiveness,w_gust,plant_limited";
+  // A six-degree-of-freedom engine's outputs (plant.engine jsbsim) likewise.
+  const bool flight = !s.pitch.empty();
+  if (flight) header += ",pitch,airspeed,altitude,flight_path";
   header += '\n';
   std::fputs(header.c_str(), f.get());
   std::string line;
@@ -262,6 +265,12 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
       }
       line += ',';
       integer(s.plant_limited[k]);
+    }
+    if (flight) {
+      for (double v : {s.pitch[k], s.airspeed[k], s.altitude[k], s.flight_path[k]}) {
+        line += ',';
+        num(v);
+      }
     }
     line += '\n';
     std::fwrite(line.data(), 1, line.size(), f.get());

@@ -59,6 +59,10 @@ struct Series {
   /// the plant's limits changed the signal. Empty for the paper's ideal plant.
   std::vector<double> u_applied, effectiveness, w_gust;
   std::vector<int> plant_limited;
+  /// What a six-degree-of-freedom engine (plant.engine jsbsim) reports beside x at t_k:
+  /// pitch attitude [rad], true airspeed [m/s], altitude [m], flight path angle [rad]. Empty
+  /// on the linear plant.
+  std::vector<double> pitch, airspeed, altitude, flight_path;
 };
 
 /// \brief Options of a batch run.

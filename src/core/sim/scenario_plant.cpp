@@ -18,9 +18,13 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {
   if (!(dt > 0.0)) throw std::invalid_argument("dt must be > 0");
+  engine_ = makePlantEngine(plant, dt);
+  // The gust filter's V on an engine is its trimmed airspeed (operating_point.U is the
+  // linear model's).
+  if (engine_ && gust_.active()) gust_ = DrydenGust(plant.turbulence, engine_->trimAirspeed(), dt);
   // Samples t_k = k dt with t_k < t_end (a tolerance guards against round-off in t_end / dt).
   steps_ = static_cast<std::int64_t>(std::ceil(scenario_.endTime() / dt_ - 1e-9));
-  if (gust_.active()) {
+  if (gust_.active() && !engine_) {
     inv_airspeed_ = 1.0 / plant.airspeed;
     gust_col_ = plant.A.col(plant.output_index);
     for (Eigen::Index i = 0; i < gust_col_.size(); ++i)
@@ -34,6 +38,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
 
 void ScenarioPlant::reset() {
   plant_.reset();
+  if (engine_) engine_->reset();
   k_ = 0;
   u_cmd_ = 0.0;
   limited_steps_ = 0;
@@ -58,7 +63,7 @@ void ScenarioPlant::sampleInputs() {
     lambda_idx_ = scenario_.effectivenessIndexFrom(mid, lambda_idx_);
     lambda_ = scenario_.effectiveness[lambda_idx_].value;
   }
-  copyTo(plant_.state(), &measured_);
+  copyTo(state(), &measured_);
   if (noisy_)
     for (Eigen::Index i = 0; i < measured_.size(); ++i)
       measured_[i] += noise_cfg_.std[i] * noise_.next();
@@ -70,7 +75,10 @@ void ScenarioPlant::advance(double u) {
   if (actuator_.limited()) ++limited_steps_;
   // Without a schedule the applied deflection goes in as it is: the paper's bits.
   const double effect = has_lambda_ ? lambda_ * applied : applied;
-  if (gust_.active()) {
+  if (engine_) {
+    engine_->step(dt_, theta_, effect, r_, gust_.active() ? gust_.value() : 0.0);
+    if (gust_.active()) gust_.advance();
+  } else if (gust_.active()) {
     disturbance_ = gustAlpha() * gust_col_;
     plant_.stepDisturbed(dt_, theta_, effect, r_, disturbance_);
     gust_.advance();

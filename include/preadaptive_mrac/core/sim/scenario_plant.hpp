@@ -4,9 +4,11 @@
 /// (delay, lag, limits), the elevator effectiveness and Dryden turbulence applied to it.
 
 #include <cstdint>
+#include <memory>
 
 #include "preadaptive_mrac/core/sim/actuator.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
+#include "preadaptive_mrac/core/sim/plant_engine.hpp"
 #include "preadaptive_mrac/core/sim/scenario.hpp"
 #include "preadaptive_mrac/core/sim/turbulence.hpp"
 
@@ -23,6 +25,10 @@ namespace preadaptive_mrac {
 /// with g the alpha column of A in every row but the tracking-error integrator's (the rows
 /// where B1r is 0: the integrator integrates the measured alpha), and moves to k + 1.
 /// done() once t_k >= t_end. The controller is told none of this.
+///
+/// With plant.engine jsbsim a PlantEngine (JSBSim, trimmed) integrates instead of the linear
+/// model: the same actuator chain, Lambda, theta, noise and gust, the gust as a vertical wind
+/// (PlantEngine::step); A, B, B1r are then only the controller's model.
 class ScenarioPlant {
  public:
   ScenarioPlant(const PlantConfig& plant, const Scenario& scenario, double dt);
@@ -33,7 +39,12 @@ class ScenarioPlant {
   double dt() const { return dt_; }
   bool done() const { return k_ >= steps_; }
   /// \brief True state x_k.
-  const Vec& state() const { return plant_.state(); }
+  const Vec& state() const { return engine_ ? engine_->state() : plant_.state(); }
+  /// \brief Pitch attitude, airspeed, altitude, flight path angle at t_k: nullptr on the
+  /// linear plant.
+  const FlightOutputs* flight() const { return engine_ ? &engine_->flight() : nullptr; }
+  /// \brief The engine (nullptr on the linear plant).
+  PlantEngine* engine() const { return engine_.get(); }
   /// \brief What a sensor reports at t_k: x_k plus the configured noise (x_k when none).
   const Vec& measured() const { return measured_; }
   double reference() const { return r_; }
@@ -65,6 +76,7 @@ class ScenarioPlant {
  private:
   void sampleInputs();
   Plant plant_;
+  std::unique_ptr<PlantEngine> engine_;  // plant.engine other than linear
   Scenario scenario_;
   double dt_;
   std::int64_t k_ = 0, steps_ = 0;
