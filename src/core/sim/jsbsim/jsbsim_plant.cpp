@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <vector>
 
 #include "preadaptive_mrac/core/sim/plant.hpp"
 
@@ -57,13 +59,23 @@ JsbsimPlant::JsbsimPlant(const JsbsimParams& params, double dt, double e_i0)
              {"pmrac/ref/h-sl-ft", &h_, 1.0}}} {
   x_.setZero(3);
   packet_.reserve(1024);
+  // JSBSim's trim starts from the initial condition and leaves it changed: the attitude and
+  // position the initialize file gave are read once (6 digits) and written back before every
+  // trim, so that every reset() trims from the same point to the same bits.
+  static const char* const kIc[] = {"ic/lat-gc-rad", "ic/long-gc-rad", "ic/psi-true-rad",
+                                    "ic/phi-rad",    "ic/beta-rad",    "ic/alpha-rad"};
+  const std::vector<double> v =
+      proc_.get(std::vector<std::string>(std::begin(kIc), std::end(kIc)));
+  for (size_t i = 0; i < v.size(); ++i) appendSet(&ic_packet_, kIc[i], v[i]);
+  ic_lines_ = v.size();
+  reset();
 }
 
 void JsbsimPlant::reset() {
   char where[128];
   std::snprintf(where, sizeof where, "Mach %g, %g ft", params_.mach, params_.altitude_ft);
   // Nominal inputs, no wind, the operating point; then JSBSim's trim from it.
-  std::string p;
+  std::string p = ic_packet_;
   appendSet(&p, "fcs/pmrac-elevator-cmd-rad", 0.0);
   appendSet(&p, "pmrac/fault/elevator-effectiveness", 1.0);
   appendSet(&p, "pmrac/fault/pitch-damping", 1.0);
@@ -72,7 +84,7 @@ void JsbsimPlant::reset() {
   appendSet(&p, "ic/h-sl-ft", params_.altitude_ft);
   appendSet(&p, "ic/mach", params_.mach);
   appendSet(&p, "ic/gamma-rad", 0.0);
-  const auto& rep = proc_.transact(p, 8);
+  const auto& rep = proc_.transact(p, 8 + ic_lines_);
   for (const auto& line : rep)
     if (line.find("set successful") == std::string::npos)
       throw JsbsimError("JSBSim refused an input of the aircraft '" + params_.aircraft +
@@ -96,13 +108,16 @@ void JsbsimPlant::reset() {
   trim_.mach = v[8];
   // The deviations are computed when the aerodynamics runs: trim again (from the same
   // operating point, so to the same state) with the references set, then read them.
-  p.clear();
+  p = ic_packet_;
+  appendSet(&p, "ic/h-sl-ft", params_.altitude_ft);
+  appendSet(&p, "ic/mach", params_.mach);
+  appendSet(&p, "ic/gamma-rad", 0.0);
   appendSet(&p, "pmrac/ref/theta-rad", theta_);
   appendSet(&p, "pmrac/ref/gamma-rad", gamma_);
   appendSet(&p, "pmrac/ref/q-rad_sec", q_);
   appendSet(&p, "pmrac/ref/vt-fps", vt_);
   appendSet(&p, "pmrac/ref/h-sl-ft", h_);
-  proc_.transact(p, 5);
+  proc_.transact(p, 8 + ic_lines_);
   refs_[0].at = theta_;
   refs_[1].at = gamma_;
   refs_[2].at = q_;

@@ -42,7 +42,7 @@ struct JsbsimTrim {
 /// with the trapezoid rule over the step: e_I += dt ((alpha_k + alpha_k+1) / 2 - r).
 class JsbsimPlant : public PlantEngine {
  public:
-  /// \brief Start JSBSim (no trim yet: reset() trims). `e_i0`: e_I at reset.
+  /// \brief Start JSBSim and trim it (reset()). `e_i0`: e_I at reset.
   JsbsimPlant(const JsbsimParams& params, double dt, double e_i0);
   void reset() override;
   const Vec& state() const override { return x_; }
@@ -73,6 +73,8 @@ class JsbsimPlant : public PlantEngine {
   // Full values of the read variables at the current sample (the references of the next read).
   double theta_ = 0.0, gamma_ = 0.0, q_ = 0.0, vt_ = 0.0, h_ = 0.0;
   std::string packet_;
+  std::string ic_packet_;  // the initial condition's `set`s, written before every trim
+  size_t ic_lines_ = 0;
   /// A read reference: JSBSim's pmrac/ref/X, the value last sent (`at`), and how far X may
   /// move from it before it is sent again.
   struct Ref {
