@@ -70,6 +70,12 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   if (sections.scenario) {
     rc.scenario = Scenario::read(r, std::max(n, 0), "scenario");
     r.rejectUnusedUnder("scenario");
+    if (sections.plant && !rc.scenario.faults.empty() &&
+        rc.plant.engine != PlantEngineKind::kJsbsim)
+      r.fail("scenario.faults",
+             "physical faults (CG shift, elevator effectiveness, pitch damping) need "
+             "plant.engine jsbsim: the linear model has no CG or aerodynamics (use theta or "
+             "scenario.effectiveness on it)");
   }
   if (sections.strict_top_level && tree.type() == ParamValue::Type::kMap) {
     for (const auto& kv : tree.map()) {

@@ -116,6 +116,40 @@ TEST(Jsbsim, ScenarioPlantRunsTheClosedLoopOnJsbsim) {
               r.series.x[k][1], 1e-9);
 }
 
+TEST(Jsbsim, PhysicalFaultsActFromTheirSegment) {
+  RunConfig cfg = jsbsimConfig();
+  cfg.scenario.theta.resize(1);
+  cfg.scenario.theta[0].until = 1.0;
+  cfg.scenario.theta[0].theta.setZero(3);
+  cfg.scenario.reference.resize(1);
+  cfg.scenario.reference[0].until = 1.0;
+  Scenario lossy = cfg.scenario;
+  Scenario::FaultSegment nominal{0.5}, half{1.0};
+  half.elevator_effectiveness = 0.5;
+  lossy.faults = {nominal, half};
+  ScenarioPlant a(cfg.plant, cfg.scenario, 0.001), b(cfg.plant, lossy, 0.001);
+  // The same elevator step from 0.5 s: half the elevator's effect on the pitch rate at first
+  // (the first 20 ms, before alpha moves much); identical before the fault.
+  for (int k = 0; k < 520; ++k) {
+    const double u = k < 500 ? 0.0 : 0.01;
+    a.advance(u);
+    b.advance(u);
+    if (k == 499) ASSERT_EQ(a.state()[2], b.state()[2]);
+  }
+  // The fault halves the whole deflection, the trim's included: the moment changes by
+  // 0.5 (u + de_trim) - de_trim against u.
+  const double de_trim = dynamic_cast<JsbsimPlant*>(b.engine())->trim().elevator;
+  EXPECT_NEAR(b.state()[2] / a.state()[2], (0.5 * (0.01 + de_trim) - de_trim) / 0.01, 0.02);
+  // A CG shift aft from the start: statically less stable, the trimmed aircraft pitches up.
+  Scenario aft = cfg.scenario;
+  Scenario::FaultSegment shifted{1.0};
+  shifted.cg_shift = 0.05;
+  aft.faults = {shifted};
+  ScenarioPlant c(cfg.plant, aft, 0.001);
+  for (int k = 0; k < 500; ++k) c.advance(0.0);
+  EXPECT_GT(c.state()[2], 1e-3);
+}
+
 TEST(Jsbsim, LinearisationMatchesConditionNine) {
   const RunConfig cfg = jsbsimConfig();
   JsbsimPlant p(cfg.plant.jsbsim, 0.001, 0.0);

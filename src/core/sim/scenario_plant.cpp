@@ -45,6 +45,7 @@ void ScenarioPlant::reset() {
   actuator_.reset();
   gust_.reset();
   theta_idx_ = r_idx_ = lambda_idx_ = 0;
+  fault_idx_ = 0;
   noise_.reseed(noise_cfg_.seed);
   sampleInputs();
 }
@@ -62,6 +63,11 @@ void ScenarioPlant::sampleInputs() {
   if (has_lambda_) {
     lambda_idx_ = scenario_.effectivenessIndexFrom(mid, lambda_idx_);
     lambda_ = scenario_.effectiveness[lambda_idx_].value;
+  }
+  if (engine_ && !scenario_.faults.empty()) {
+    fault_idx_ = scenario_.faultIndexFrom(mid, fault_idx_);
+    const auto& f = scenario_.faults[fault_idx_];
+    engine_->setFaults({f.cg_shift, f.elevator_effectiveness, f.pitch_damping});
   }
   copyTo(state(), &measured_);
   if (noisy_)

@@ -96,6 +96,7 @@ class ScenarioPlant {
   double u_cmd_ = 0.0;
   std::int64_t limited_steps_ = 0;
   size_t theta_idx_ = 0, r_idx_ = 0, lambda_idx_ = 0;  // segments of the current sample
+  size_t fault_idx_ = 0;
 };
 
 }  // namespace preadaptive_mrac
