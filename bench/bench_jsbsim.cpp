@@ -77,12 +77,12 @@ int main(int argc, char** argv) {
     auto& p = raw.process();
     const double iter = exchangeUs(p, "iterate 1\nget simulation/frame\n", 2, steps, repeats);
     const double get1 = exchangeUs(p, "get simulation/frame\n", 1, steps, repeats);
-    const double get7 = exchangeUs(
-        p,
-        "get pmrac/sync/frame\nget pmrac/dev/theta-rad\n"
-        "get pmrac/dev/gamma-rad\nget pmrac/dev/q-rad_sec\nget pmrac/dev/vt-fps\n"
-        "get pmrac/dev/h-sl-ft\n",
-        6, steps, repeats);
+    const double get7 =
+        exchangeUs(p,
+                   "get pmrac/sync/frame\nget pmrac/dev/theta-rad\n"
+                   "get pmrac/dev/gamma-rad\nget pmrac/dev/q-rad_sec\nget pmrac/dev/vt-fps\n"
+                   "get pmrac/dev/h-sl-ft\n",
+                   6, steps, repeats);
     std::printf("per-step cost, median of %d blocks (us):\n", repeats);
     std::printf("  ScenarioPlant::advance, linear (RK4)          %10.3f\n", lin);
     std::printf("  ScenarioPlant::advance, jsbsim (coupling)     %10.3f  (%.0fx linear)\n", jsb,

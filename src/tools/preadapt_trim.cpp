@@ -91,30 +91,35 @@ int main(int argc, char** argv) {
     std::printf("# preadapt_trim: JSBSim aircraft %s trimmed at Mach %s, %s ft (level flight)\n",
                 plant.jsbsim.aircraft.c_str(), num(plant.jsbsim.mach).c_str(),
                 num(plant.jsbsim.altitude_ft).c_str());
-    std::printf("# trim: alpha %.4f deg, pitch %.4f deg, elevator %.4f deg (fcs/elevator-pos-rad"
-                "), throttle %.6f, thrust %.0f lbf, true airspeed %.3f m/s, Mach %.4f\n",
-                tr.alpha * kDeg, tr.pitch * kDeg, tr.elevator * kDeg, tr.throttle,
-                tr.thrust_lbf, tr.airspeed, tr.mach);
-    std::printf("# linearised through the coupling: +-%.3g deg elevator runs of %g s at dt %g s, "
-                "central differences, least squares (fit residual rms: alphadot %.2g of %.2g "
-                "rad/s, qdot %.2g of %.2g rad/s^2); %.1f s wall\n",
-                opt.amplitude * kDeg, opt.duration, opt.dt, lm.residual_alpha, lm.signal_alpha,
-                lm.residual_q, lm.signal_q, wall);
-    std::printf("# Z_alpha/mU %.4f, 1 + Z_q/mU %.4f, M_alpha/Iy %.4f, M_q/Iy %.4f, Z_delta/mU "
-                "%.5f, M_delta/Iy %.4f (the paper: -0.32, 0.86, -0.93, -0.43, -0.02, -1.16)\n",
-                A(1, 1), A(1, 2), A(2, 1), A(2, 2), B[1], B[2]);
+    std::printf(
+        "# trim: alpha %.4f deg, pitch %.4f deg, elevator %.4f deg (fcs/elevator-pos-rad"
+        "), throttle %.6f, thrust %.0f lbf, true airspeed %.3f m/s, Mach %.4f\n",
+        tr.alpha * kDeg, tr.pitch * kDeg, tr.elevator * kDeg, tr.throttle, tr.thrust_lbf,
+        tr.airspeed, tr.mach);
+    std::printf(
+        "# linearised through the coupling: +-%.3g deg elevator runs of %g s at dt %g s, "
+        "central differences, least squares (fit residual rms: alphadot %.2g of %.2g "
+        "rad/s, qdot %.2g of %.2g rad/s^2); %.1f s wall\n",
+        opt.amplitude * kDeg, opt.duration, opt.dt, lm.residual_alpha, lm.signal_alpha,
+        lm.residual_q, lm.signal_q, wall);
+    std::printf(
+        "# Z_alpha/mU %.4f, 1 + Z_q/mU %.4f, M_alpha/Iy %.4f, M_q/Iy %.4f, Z_delta/mU "
+        "%.5f, M_delta/Iy %.4f (the paper: -0.32, 0.86, -0.93, -0.43, -0.02, -1.16)\n",
+        A(1, 1), A(1, 2), A(2, 1), A(2, 2), B[1], B[2]);
     std::printf("plant:\n");
-    std::printf("  description: \"%s trimmed at Mach %s, %s ft by preadapt_trim; A, B linearised "
-                "through the JSBSim coupling\"\n",
-                plant.jsbsim.aircraft.c_str(), num(plant.jsbsim.mach).c_str(),
-                num(plant.jsbsim.altitude_ft).c_str());
+    std::printf(
+        "  description: \"%s trimmed at Mach %s, %s ft by preadapt_trim; A, B linearised "
+        "through the JSBSim coupling\"\n",
+        plant.jsbsim.aircraft.c_str(), num(plant.jsbsim.mach).c_str(),
+        num(plant.jsbsim.altitude_ft).c_str());
     std::printf("  engine: jsbsim\n");
     std::printf("  jsbsim: {aircraft: %s, mach: %.17g, altitude_ft: %.17g}\n",
                 plant.jsbsim.aircraft.c_str(), plant.jsbsim.mach, plant.jsbsim.altitude_ft);
     std::printf("  operating_point: {U: %.17g}\n", tr.airspeed);
-    std::printf("  A: [[%.17g, %.17g, %.17g],\n      [%.17g, %.17g, %.17g],\n"
-                "      [%.17g, %.17g, %.17g]]\n",
-                A(0, 0), A(0, 1), A(0, 2), A(1, 0), A(1, 1), A(1, 2), A(2, 0), A(2, 1), A(2, 2));
+    std::printf(
+        "  A: [[%.17g, %.17g, %.17g],\n      [%.17g, %.17g, %.17g],\n"
+        "      [%.17g, %.17g, %.17g]]\n",
+        A(0, 0), A(0, 1), A(0, 2), A(1, 0), A(1, 1), A(1, 2), A(2, 0), A(2, 1), A(2, 2));
     std::printf("  B: [%.17g, %.17g, %.17g]\n", B[0], B[1], B[2]);
     std::printf("  B1r: [%.17g, %.17g, %.17g]\n", lm.B1r[0], lm.B1r[1], lm.B1r[2]);
     std::printf("  x0: [0.0, 0.0, 0.0]\n  output_index: 1\n");

@@ -199,10 +199,8 @@ TEST(JsbsimFailure, MissingBinarySaysHowToInstall) {
     JsbsimPlant plant(p, 0.001, 0.0);
     FAIL() << "started without a binary";
   } catch (const JsbsimError& e) {
-    EXPECT_NE(std::string(e.what()).find("scripts/install_jsbsim"), std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("plant.jsbsim.executable"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("scripts/install_jsbsim"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("plant.jsbsim.executable"), std::string::npos) << e.what();
   }
 }
 
@@ -213,8 +211,7 @@ TEST(JsbsimFailure, BadAircraftNameIsAnErrorAndNoProcess) {
     JsbsimPlant plant(p, 0.001, 0.0);
     FAIL() << "started with an aircraft that does not exist";
   } catch (const JsbsimError& e) {
-    EXPECT_NE(std::string(e.what()).find("plant.jsbsim.aircraft"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("plant.jsbsim.aircraft"), std::string::npos) << e.what();
   }
   // An aircraft folder whose file does not load: JSBSim itself ends, the error quotes it.
   const std::string root = ::testing::TempDir() + "pmrac_bad_root";

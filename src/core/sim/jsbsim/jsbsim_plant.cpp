@@ -64,8 +64,7 @@ JsbsimPlant::JsbsimPlant(const JsbsimParams& params, double dt, double e_i0)
   // trim, so that every reset() trims from the same point to the same bits.
   static const char* const kIc[] = {"ic/lat-gc-rad", "ic/long-gc-rad", "ic/psi-true-rad",
                                     "ic/phi-rad",    "ic/beta-rad",    "ic/alpha-rad"};
-  const std::vector<double> v =
-      proc_.get(std::vector<std::string>(std::begin(kIc), std::end(kIc)));
+  const std::vector<double> v = proc_.get(std::vector<std::string>(std::begin(kIc), std::end(kIc)));
   for (size_t i = 0; i < v.size(); ++i) appendSet(&ic_packet_, kIc[i], v[i]);
   ic_lines_ = v.size();
   reset();
@@ -87,15 +86,16 @@ void JsbsimPlant::reset() {
   const auto& rep = proc_.transact(p, 8 + ic_lines_);
   for (const auto& line : rep)
     if (line.find("set successful") == std::string::npos)
-      throw JsbsimError("JSBSim refused an input of the aircraft '" + params_.aircraft +
-                        "' (is it the package's, with the fcs/pmrac-* and pmrac/* properties?): " +
-                        line);
+      throw JsbsimError(
+          "JSBSim refused an input of the aircraft '" + params_.aircraft +
+          "' (is it the package's, with the fcs/pmrac-* and pmrac/* properties?): " + line);
   proc_.trim(where);
   // 6 significant digits first; they become the references of the full-precision reads.
-  const std::vector<std::string> names = {
-      "attitude/theta-rad", "flight-path/gamma-rad",        "velocities/q-rad_sec",
-      "velocities/vt-fps",  "position/h-sl-ft",             "fcs/elevator-pos-rad",
-      "fcs/throttle-cmd-norm", "propulsion/engine/thrust-lbs", "velocities/mach"};
+  const std::vector<std::string> names = {"attitude/theta-rad",    "flight-path/gamma-rad",
+                                          "velocities/q-rad_sec",  "velocities/vt-fps",
+                                          "position/h-sl-ft",      "fcs/elevator-pos-rad",
+                                          "fcs/throttle-cmd-norm", "propulsion/engine/thrust-lbs",
+                                          "velocities/mach"};
   const std::vector<double> v = proc_.get(names);
   theta_ = v[0];
   gamma_ = v[1];

@@ -34,8 +34,7 @@ const char* const kInstallHint =
     "PMRAC_JSBSIM=$(scripts/install_jsbsim | tail -n1) or plant.jsbsim.executable";
 
 bool isExecutable(const std::string& path) {
-  return !path.empty() && ::access(path.c_str(), X_OK) == 0 &&
-         !std::filesystem::is_directory(path);
+  return !path.empty() && ::access(path.c_str(), X_OK) == 0 && !std::filesystem::is_directory(path);
 }
 
 /// The running executable's folder and its parents up to `levels` above.
@@ -117,8 +116,8 @@ std::string findJsbsimExecutable(const std::string& configured) {
   }
   std::string list;
   for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t;
-  throw JsbsimError("JSBSim not found (plant.engine is jsbsim; tried " + list + "): " +
-                    kInstallHint);
+  throw JsbsimError("JSBSim not found (plant.engine is jsbsim; tried " + list +
+                    "): " + kInstallHint);
 }
 
 std::string findJsbsimRoot(const std::string& configured, const std::string& aircraft) {
@@ -138,11 +137,11 @@ std::string findJsbsimRoot(const std::string& configured, const std::string& air
   std::string list;
   for (const auto& c : cands) list += (list.empty() ? "" : ", ") + c;
   if (!configured.empty())
-    throw JsbsimError("plant.jsbsim.aircraft: no aircraft '" + aircraft + "' in plant.jsbsim.root '" +
-                      configured + "' (expected " + configured + "/aircraft/" + aircraft + "/" +
-                      aircraft + ".xml)");
-  throw JsbsimError("plant.jsbsim.aircraft: no aircraft '" + aircraft +
-                    "' (looked for aircraft/" + aircraft + "/" + aircraft + ".xml under " + list +
+    throw JsbsimError("plant.jsbsim.aircraft: no aircraft '" + aircraft +
+                      "' in plant.jsbsim.root '" + configured + "' (expected " + configured +
+                      "/aircraft/" + aircraft + "/" + aircraft + ".xml)");
+  throw JsbsimError("plant.jsbsim.aircraft: no aircraft '" + aircraft + "' (looked for aircraft/" +
+                    aircraft + "/" + aircraft + ".xml under " + list +
                     "); the package's aircraft is b747_pmrac, or give plant.jsbsim.root");
 }
 
@@ -159,8 +158,8 @@ JsbsimProcess::JsbsimProcess(const JsbsimLaunch& launch) {
       if (attempt == 4) {
         const std::string tail = logTail(3);
         removeDir();
-        throw JsbsimError("JSBSim could not bind a free local port in 5 attempts (its log: " +
-                          tail + ")");
+        throw JsbsimError(
+            "JSBSim could not bind a free local port in 5 attempts (its log: " + tail + ")");
       }
     } catch (...) {
       stop();
@@ -209,8 +208,8 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
     if (!f) throw JsbsimError("JSBSim: cannot write " + script);
   }
   // Everything the child needs, prepared before fork (only async-signal-safe calls after it).
-  std::vector<std::string> args = {exe,           "--root=" + root, "--script=" + script,
-                                   "--nohighlight", "--suspend",      "--nice=0"};
+  std::vector<std::string> args = {
+      exe, "--root=" + root, "--script=" + script, "--nohighlight", "--suspend", "--nice=0"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -267,8 +266,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
                       kInstallHint);
 
   // Connect with retry until JSBSim listens (it loads the aircraft first: ~10 ms).
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -286,14 +284,15 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
                                           : "signal " + std::to_string(WTERMSIG(status));
       throw JsbsimError("JSBSim ended while starting (" + how + "): the aircraft '" +
                         launch.aircraft + "' or its initial condition '" + launch.initialize +
-                        "' under " + root + " did not load (check plant.jsbsim.aircraft, "
+                        "' under " + root +
+                        " did not load (check plant.jsbsim.aircraft, "
                         "plant.jsbsim.initialize, plant.jsbsim.root); JSBSim said: " +
                         logTail());
     }
     if (readFile(log_path_).find("Could not bind") != std::string::npos) throw PortTaken{};
     if (std::chrono::steady_clock::now() > deadline)
-      throw JsbsimError("JSBSim did not open its input socket on port " +
-                        std::to_string(port_) + " within " + std::to_string(timeout_ms_) +
+      throw JsbsimError("JSBSim did not open its input socket on port " + std::to_string(port_) +
+                        " within " + std::to_string(timeout_ms_) +
                         " ms (plant.jsbsim.timeout); JSBSim said: " + logTail());
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
@@ -308,8 +307,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
 
 bool JsbsimProcess::exited(int* status, double wait_s) {
   if (pid_ <= 0) return true;
-  const auto until =
-      std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
   for (;;) {
     const pid_t r = ::waitpid(pid_, status, WNOHANG);
     if (r == pid_) return true;
@@ -368,8 +366,7 @@ void JsbsimProcess::readPrompts(size_t n) {
   buf_.erase(0, pos);
 }
 
-const std::vector<std::string>& JsbsimProcess::transact(const std::string& packet,
-                                                        size_t lines) {
+const std::vector<std::string>& JsbsimProcess::transact(const std::string& packet, size_t lines) {
   if (fd_ < 0) throw JsbsimError("JSBSim: not connected (the process was stopped)");
   size_t sent = 0;
   while (sent < packet.size()) {
@@ -422,7 +419,8 @@ void JsbsimProcess::trim(const std::string& what) {
   } catch (const JsbsimError& e) {
     throw JsbsimError("JSBSim's trim failed at " + what +
                       " and ended the process: choose an operating point the aircraft can fly "
-                      "(plant.jsbsim.mach, plant.jsbsim.altitude_ft); " + e.what());
+                      "(plant.jsbsim.mach, plant.jsbsim.altitude_ft); " +
+                      e.what());
   }
 }
 

@@ -10,8 +10,8 @@ namespace preadaptive_mrac {
 
 /// \brief Settings of the linearisation.
 struct LineariseOptions {
-  double dt = 0.001;          ///< step [s]
-  double duration = 6.0;      ///< length of each of the two runs [s]
+  double dt = 0.001;            ///< step [s]
+  double duration = 6.0;        ///< length of each of the two runs [s]
   double amplitude = 1.745e-3;  ///< elevator amplitude h [rad] (0.1 deg)
 };
 
@@ -19,8 +19,8 @@ struct LineariseOptions {
 struct LinearModel {
   Mat A;
   Vec B, B1r;
-  double residual_alpha = 0.0;  ///< rms of the fit's alphadot residual [rad/s]
-  double residual_q = 0.0;      ///< rms of the qdot residual [rad/s^2]
+  double residual_alpha = 0.0;                ///< rms of the fit's alphadot residual [rad/s]
+  double residual_q = 0.0;                    ///< rms of the qdot residual [rad/s^2]
   double signal_alpha = 0.0, signal_q = 0.0;  ///< rms of what was fitted
 };
 
