@@ -51,7 +51,7 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   // (absent: still air, without a note, as before the section existed)
   readChecked(r, prefix, static_cast<TurbulenceParams*>(&c.turbulence));
   // (absent: the defaults, without a note: a linear run reports what it reported before)
-  readChecked(r, prefix, &c.jsbsim);
+  readChecked(r, prefix, static_cast<JsbsimParams*>(&c.jsbsim));
   // The operating point documents where A and B come from; its airspeed U is the V of the
   // turbulence filter, so required when turbulence is on.
   const std::string uk = prefix + ".operating_point.U";
