@@ -46,6 +46,9 @@ double plantStepUs(const PlantConfig& plant, const Scenario& sc, int steps, int 
     for (int k = 0; k < steps; ++k) sim.advance(((k / 500) % 2 ? 0.01 : -0.01));
     us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps);
   }
+  if (const auto* j = dynamic_cast<const JsbsimPlant*>(sim.engine()))
+    std::printf("  (jsbsim: %lld of %d reads came mid-step and were repeated)\n",
+                static_cast<long long>(j->rereads()), steps * repeats);
   return median(us);
 }
 

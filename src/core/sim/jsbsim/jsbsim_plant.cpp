@@ -25,6 +25,11 @@ const char* const kReadNames[] = {"pmrac/sync/frame",    "pmrac/dev/theta-rad",
                                   "pmrac/dev/gamma-rad", "pmrac/dev/q-rad_sec",
                                   "pmrac/dev/vt-fps",    "pmrac/dev/h-sl-ft"};
 constexpr size_t kReadLines = 6;
+// The same without airspeed and altitude (JsbsimPlant::readFlight(false)): each line costs
+// about 5 % of a step.
+const char kReadPacketShort[] =
+    "get pmrac/sync/frame\nget pmrac/dev/theta-rad\nget pmrac/dev/gamma-rad\n"
+    "get pmrac/dev/q-rad_sec\n";
 // A read that keeps coming mid-step this often is no longer a race but a broken lockstep.
 constexpr int kMaxRereads = 100000;
 
@@ -142,16 +147,20 @@ void JsbsimPlant::reset() {
 
 void JsbsimPlant::readStep(std::int64_t expected_frame) {
   for (int tries = 0;; ++tries) {
-    const auto& r = proc_.transact(kReadPacket, kReadLines);
+    // (airspeed and altitude, the packet's last two lines, only when asked for)
+    const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
+    const auto& r = proc_.transact(read_flight_ ? kReadPacket : kReadPacketShort, lines);
     double v[kReadLines];
-    for (size_t i = 0; i < kReadLines; ++i) v[i] = JsbsimProcess::parseGet(r[i], kReadNames[i]);
+    for (size_t i = 0; i < lines; ++i) v[i] = JsbsimProcess::parseGet(r[i], kReadNames[i]);
     const auto frame = static_cast<std::int64_t>(v[0]);
     if (frame == expected_frame) {
       theta_ = refs_[0].at + v[1];
       gamma_ = refs_[1].at + v[2];
       q_ = refs_[2].at + v[3];
-      vt_ = refs_[3].at + v[4];
-      h_ = refs_[4].at + v[5];
+      if (read_flight_) {
+        vt_ = refs_[3].at + v[4];
+        h_ = refs_[4].at + v[5];
+      }
       return;
     }
     if (frame > expected_frame || tries >= kMaxRereads)

@@ -49,6 +49,7 @@ class JsbsimPlant : public PlantEngine {
   void step(double dt, const Vec& theta, double effect, double r, double gust) override;
   void setFaults(const PhysicalFaults& faults) override { faults_ = faults; }
   const FlightOutputs& flight() const override { return flight_; }
+  void readFlight(bool on) override { read_flight_ = on; }
   double trimAirspeed() const override { return trim_.airspeed; }
   const JsbsimTrim& trim() const { return trim_; }
   /// \brief Reads repeated because they came in the middle of a step (since start).
@@ -68,6 +69,7 @@ class JsbsimPlant : public PlantEngine {
   FlightOutputs flight_;
   PhysicalFaults faults_, sent_faults_;
   bool wind_sent_ = false;
+  bool read_flight_ = true;
   std::int64_t frame_ = 0, rereads_ = 0;
   double de_ = 0.0;
   // Full values of the read variables at the current sample (the references of the next read).
