@@ -47,8 +47,9 @@ double plantStepUs(const PlantConfig& plant, const Scenario& sc, int steps, int 
     us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps);
   }
   if (const auto* j = dynamic_cast<const JsbsimPlant*>(sim.engine()))
-    std::printf("  (jsbsim: %lld of %d reads came mid-step and were repeated)\n",
-                static_cast<long long>(j->rereads()), steps * repeats);
+    std::printf("  (jsbsim: %lld of %d steps read with the step itself, %lld reads repeated)\n",
+                static_cast<long long>(j->earlyReads()), steps * repeats,
+                static_cast<long long>(j->rereads()));
   return median(us);
 }
 

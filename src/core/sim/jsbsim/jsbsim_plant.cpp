@@ -145,28 +145,38 @@ void JsbsimPlant::reset() {
   flight_ = {theta_, vt_ * kFt, h_ * kFt, gamma_};
 }
 
-void JsbsimPlant::readStep(std::int64_t expected_frame) {
-  for (int tries = 0;; ++tries) {
-    // (airspeed and altitude, the packet's last two lines, only when asked for)
-    const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
-    const auto& r = proc_.transact(read_flight_ ? kReadPacket : kReadPacketShort, lines);
-    double v[kReadLines];
-    for (size_t i = 0; i < lines; ++i) v[i] = JsbsimProcess::parseGet(r[i], kReadNames[i]);
-    const auto frame = static_cast<std::int64_t>(v[0]);
-    if (frame == expected_frame) {
-      theta_ = refs_[0].at + v[1];
-      gamma_ = refs_[1].at + v[2];
-      q_ = refs_[2].at + v[3];
-      if (read_flight_) {
-        vt_ = refs_[3].at + v[4];
-        h_ = refs_[4].at + v[5];
-      }
-      return;
+bool JsbsimPlant::takeRead(const std::vector<std::string>& r, size_t at,
+                           std::int64_t expected_frame) {
+  const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
+  double v[kReadLines];
+  for (size_t i = 0; i < lines; ++i) v[i] = JsbsimProcess::parseGet(r[at + i], kReadNames[i]);
+  const auto frame = static_cast<std::int64_t>(v[0]);
+  if (frame == expected_frame) {
+    theta_ = refs_[0].at + v[1];
+    gamma_ = refs_[1].at + v[2];
+    q_ = refs_[2].at + v[3];
+    if (read_flight_) {
+      vt_ = refs_[3].at + v[4];
+      h_ = refs_[4].at + v[5];
     }
-    if (frame > expected_frame || tries >= kMaxRereads)
-      throw JsbsimError("JSBSim lost the lockstep: its aerodynamics ran frame " +
-                        std::to_string(frame) + " where frame " + std::to_string(expected_frame) +
-                        " was expected");
+    return true;
+  }
+  if (frame > expected_frame)
+    throw JsbsimError("JSBSim lost the lockstep: its aerodynamics ran frame " +
+                      std::to_string(frame) + " where frame " + std::to_string(expected_frame) +
+                      " was expected");
+  return false;
+}
+
+void JsbsimPlant::readStep(std::int64_t expected_frame) {
+  // (airspeed and altitude, the packet's last two lines, only when asked for)
+  const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
+  for (int tries = 0;; ++tries) {
+    const auto& r = proc_.transact(read_flight_ ? kReadPacket : kReadPacketShort, lines);
+    if (takeRead(r, 0, expected_frame)) return;
+    if (tries >= kMaxRereads)
+      throw JsbsimError("JSBSim lost the lockstep: frame " + std::to_string(expected_frame) +
+                        " did not complete after " + std::to_string(kMaxRereads) + " reads");
     ++rereads_;
   }
 }
@@ -203,12 +213,22 @@ void JsbsimPlant::step(double dt, const Vec& theta, double effect, double r, dou
   }
   packet_ += "iterate 1\n";
   ++lines;
-  const auto& rep = proc_.transact(packet_, lines);
+  // The read goes out right behind the step, without waiting for the step's replies: when
+  // JSBSim takes it in after the step (its next input pass) one round trip is saved; when in
+  // the same pass as `iterate` (before the step) or in the middle of the step, the marker
+  // says so and the read is repeated.
+  const size_t read_lines = read_flight_ ? kReadLines : kReadLines - 2;
+  const auto& rep =
+      proc_.transact2(packet_, lines, read_flight_ ? kReadPacket : kReadPacketShort, read_lines);
   for (size_t i = 0; i + 1 < lines; ++i)
     if (rep[i].compare(0, 14, "set successful") != 0)
       throw JsbsimError("JSBSim refused a step input: '" + rep[i] + "'");
   const double alpha_before = x_[1];
-  readStep(++frame_);
+  ++frame_;
+  if (takeRead(rep, lines, frame_))
+    ++early_reads_;
+  else
+    readStep(frame_);
   x_[1] = (theta_ - gamma_) - trim_.alpha;
   x_[2] = q_ - trim_.q;
   x_[0] += dt * (0.5 * (alpha_before + x_[1]) - r);

@@ -366,16 +366,33 @@ void JsbsimProcess::readPrompts(size_t n) {
   buf_.erase(0, pos);
 }
 
-const std::vector<std::string>& JsbsimProcess::transact(const std::string& packet, size_t lines) {
+void JsbsimProcess::sendAll(const char* data, size_t size) {
   if (fd_ < 0) throw JsbsimError("JSBSim: not connected (the process was stopped)");
   size_t sent = 0;
-  while (sent < packet.size()) {
-    const ssize_t w = ::send(fd_, packet.data() + sent, packet.size() - sent, MSG_NOSIGNAL);
+  while (sent < size) {
+    const ssize_t w = ::send(fd_, data + sent, size - sent, MSG_NOSIGNAL);
     if (w < 0 && errno == EINTR) continue;
     if (w <= 0) failDead(std::string("refused a command: ") + std::strerror(errno));
     sent += static_cast<size_t>(w);
   }
+}
+
+const std::vector<std::string>& JsbsimProcess::transact(const std::string& packet, size_t lines) {
+  sendAll(packet.data(), packet.size());
   readPrompts(lines);
+  return replies_;
+}
+
+const std::vector<std::string>& JsbsimProcess::transact2(const std::string& first, size_t lines1,
+                                                         const char* second, size_t lines2) {
+  sendAll(first.data(), first.size());
+  // The first reply's arrival says JSBSim's input pass has taken `first` (the step runs next):
+  // `second` then reaches the pass after it, or the one in its middle.
+  readPrompts(1);
+  std::string head = replies_[0];
+  sendAll(second, std::strlen(second));
+  readPrompts(lines1 + lines2 - 1);
+  replies_.insert(replies_.begin(), std::move(head));
   return replies_;
 }
 

@@ -54,12 +54,17 @@ class JsbsimPlant : public PlantEngine {
   const JsbsimTrim& trim() const { return trim_; }
   /// \brief Reads repeated because they came in the middle of a step (since start).
   std::int64_t rereads() const { return rereads_; }
+  /// \brief Steps whose read, sent right behind the step, already saw it completed.
+  std::int64_t earlyReads() const { return early_reads_; }
   JsbsimProcess& process() { return proc_; }
   /// \brief The elevator deflection from the trim [rad] of the last step (effect + theta^T x).
   double lastDeflection() const { return de_; }
 
  private:
   void readStep(std::int64_t expected_frame);
+  /// The read's replies from `at` on: true (and the values taken) when they are of the
+  /// completed step `expected_frame`.
+  bool takeRead(const std::vector<std::string>& r, size_t at, std::int64_t expected_frame);
   JsbsimParams params_;
   double dt_;
   double e_i0_;
@@ -70,7 +75,7 @@ class JsbsimPlant : public PlantEngine {
   PhysicalFaults faults_, sent_faults_;
   bool wind_sent_ = false;
   bool read_flight_ = true;
-  std::int64_t frame_ = 0, rereads_ = 0;
+  std::int64_t frame_ = 0, rereads_ = 0, early_reads_ = 0;
   double de_ = 0.0;
   // Full values of the read variables at the current sample (the references of the next read).
   double theta_ = 0.0, gamma_ = 0.0, q_ = 0.0, vt_ = 0.0, h_ = 0.0;

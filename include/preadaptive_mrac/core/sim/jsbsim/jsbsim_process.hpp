@@ -53,6 +53,10 @@ class JsbsimProcess {
   /// \brief Send `packet` (lines ending in '\n') in one write and return the reply text of
   /// each of its `lines` commands (the text before each prompt).
   const std::vector<std::string>& transact(const std::string& packet, size_t lines);
+  /// \brief Send `first` and then `second` in two writes without waiting in between, and
+  /// return the replies of both (first's `lines1`, then second's `lines2`).
+  const std::vector<std::string>& transact2(const std::string& first, size_t lines1,
+                                            const char* second, size_t lines2);
   /// \brief Set a property (the value written with 17 significant digits).
   void set(const std::string& property, double value);
   /// \brief Read properties in one packet (6 significant digits: JSBSim's `get`).
@@ -74,6 +78,7 @@ class JsbsimProcess {
   [[noreturn]] void failDead(const std::string& what);
   void startOnce(const JsbsimLaunch& launch, const std::string& exe, const std::string& root);
   void readPrompts(size_t n);
+  void sendAll(const char* data, size_t size);
   bool exited(int* status, double wait_s);
   void removeDir();
   pid_t pid_ = -1;
