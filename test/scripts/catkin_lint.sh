@@ -31,7 +31,7 @@ scripts/switch_reaction_study
 scripts/check_baseline_identical scripts/run_demo scripts/slurm/submit_sweep
 scripts/slurm/sweep_array.sbatch scripts/two_machines_env.sh scripts/test scripts/summarize_tests
 scripts/install_jsbsim jsbsim/tools/jsbsim_probe.py"
-DEV_TARGETS="bench_controller wakeup_floor"
+DEV_TARGETS="bench_controller wakeup_floor bench_jsbsim"
 
 args=(-W2)
 for id in "${IGNORE[@]}"; do args+=(--ignore "$id"); done
