@@ -30,6 +30,9 @@ pmrac_library(preadaptive_mrac_core
   src/core/sim/turbulence.cpp
   src/core/sim/scenario_plant.cpp
   src/core/sim/envelope.cpp
+  src/core/sim/jsbsim/jsbsim_process.cpp
+  src/core/sim/jsbsim/jsbsim_plant.cpp
+  src/core/sim/jsbsim/jsbsim_linearise.cpp
   src/core/sim/scenario.cpp
   src/core/control/network.cpp
   src/core/control/controller_config.cpp
@@ -93,9 +96,11 @@ add_executable(preadapt_family src/tools/preadapt_family.cpp)
 target_link_libraries(preadapt_family preadaptive_mrac_cli_static)
 add_executable(preadapt_margins src/tools/preadapt_margins.cpp)
 target_link_libraries(preadapt_margins preadaptive_mrac_cli_static)
+add_executable(preadapt_trim src/tools/preadapt_trim.cpp)
+target_link_libraries(preadapt_trim preadaptive_mrac_cli_static)
 # Command-line tools: catkin's global bin (on PATH once a devel or install space is sourced),
 # with a link in the package's lib/ so that `rosrun preadaptive_mrac preadapt_sim` works too.
-set(PMRAC_BATCH_TOOLS preadapt_sim preadapt_sweep preadapt_family preadapt_margins)
+set(PMRAC_BATCH_TOOLS preadapt_sim preadapt_sweep preadapt_family preadapt_margins preadapt_trim)
 set_target_properties(${PMRAC_BATCH_TOOLS} PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_BIN_DESTINATION})
 if(PMRAC_TOOLS_FULLY_STATIC)

@@ -44,12 +44,18 @@ endforeach()
 file(MAKE_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION})
 file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR}/config
      ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/config SYMBOLIC)
+# Likewise the JSBSim aircraft folder (share/preadaptive_mrac/jsbsim, JSBSim's --root).
+file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR}/jsbsim
+     ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/jsbsim SYMBOLIC)
 
 install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
 # Launch files, YAML configuration, rviz view, the dynamic_reconfigure definition and the
 # nodelet plugin description (package.xml exports ${prefix}/nodelet_plugins.xml).
 install(DIRECTORY config launch params rviz cfg DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+# The JSBSim aircraft, initial condition and engine files (JSBSim's --root; jsbsim/README.md),
+# without the development probe in jsbsim/tools/.
+install(DIRECTORY jsbsim DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION} PATTERN tools EXCLUDE)
 
 # Python tools for users (run with the system python3 that has the ROS modules): thin entry
 # points of the Python package src/preadaptive_mrac (catkin_python_setup() installs it).

@@ -59,6 +59,13 @@ if(CATKIN_ENABLE_TESTING)
     plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/envelope_plant.yaml
     DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                  preadaptive_mrac_nodelets preadapt_sim)
+  # Issue 36: JSBSim as the plant engine, in the plant node too: a 6 s scenario in lockstep
+  # equals the batch CLI's run on JSBSim bit for bit (one process each: the plant node forks
+  # its JSBSim, preadapt_sim its own).
+  add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=process name_suffix:=_jsbsim
+    plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_plant.yaml
+    scenario_path:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_scenario.yaml
+    DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node preadapt_sim)
 
   # Broken parameters: nodes exit non-zero naming the key and never publish a command.
   add_rostest(test/ros/broken_config.test

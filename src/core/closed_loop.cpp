@@ -59,6 +59,7 @@ ClosedLoop::ClosedLoop(const PlantConfig& plant, const Scenario& scenario, Contr
 SimResult ClosedLoop::run(const SimOptions& opt) {
   SimResult res;
   ScenarioPlant sim(plant_cfg_, scenario_, opt.dt);
+  if (sim.engine()) sim.engine()->readFlight(opt.record_series);
   const double dt = opt.dt;
   std::vector<Eigen::VectorXd> wtheta;
   for (const auto& s : scenario_.theta) wtheta.push_back(s.theta);
@@ -110,6 +111,12 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       s.theta_true.push_back(sim.theta());
       s.phase.push_back(ctl_->phaseActive() ? 1 : 0);
       s.saturated.push_back(o.saturated ? 1 : 0);
+      if (const FlightOutputs* f = sim.flight()) {
+        s.pitch.push_back(f->pitch);
+        s.airspeed.push_back(f->airspeed);
+        s.altitude.push_back(f->altitude);
+        s.flight_path.push_back(f->flight_path);
+      }
     }
     if (stopping && !(std::abs(o.e) <= opt.stop_above && std::isfinite(o.u))) {
       res.stopped = true;

@@ -74,6 +74,12 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   if (sections.scenario) {
     rc.scenario = Scenario::read(r, std::max(n, 0), "scenario");
     r.rejectUnusedUnder("scenario");
+    if (sections.plant && !rc.scenario.faults.empty() &&
+        rc.plant.engine != PlantEngineKind::kJsbsim)
+      r.fail("scenario.faults",
+             "physical faults (CG shift, elevator effectiveness, pitch damping) need "
+             "plant.engine jsbsim: the linear model has no CG or aerodynamics (use theta or "
+             "scenario.effectiveness on it)");
   }
   if (sections.strict_top_level && tree.type() == ParamValue::Type::kMap) {
     for (const auto& kv : tree.map()) {
@@ -251,6 +257,9 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   const bool cond = !s.conditions.empty();
   if (cond)
     for (const PlantConditionColumn& c : kPlantConditionTable) header += std::string(",") + c.name;
+  // A six-degree-of-freedom engine's outputs (plant.engine jsbsim) likewise.
+  const bool flight = !s.pitch.empty();
+  if (flight) header += ",pitch,airspeed,altitude,flight_path";
   header += '\n';
   std::fputs(header.c_str(), f.get());
   std::string line;
@@ -296,6 +305,12 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
           integer(v != 0.0 ? 1 : 0);
         else
           num(v);
+      }
+    }
+    if (flight) {
+      for (double v : {s.pitch[k], s.airspeed[k], s.altitude[k], s.flight_path[k]}) {
+        line += ',';
+        num(v);
       }
     }
     line += '\n';

@@ -21,15 +21,17 @@ command -v catkin_lint >/dev/null || {
 #                         package; in a workspace it is src/preadaptive_mrac
 IGNORE=(literal_project_name unsorted_list global_var_collision package_path_name)
 # Executables left out of the install space on purpose: development tools that expect a
-# source checkout (the benchmarks, the test and CI drivers, the studies, fuzzing, Slurm).
+# source checkout (the benchmarks, the test and CI drivers, the studies, fuzzing, Slurm, the
+# JSBSim install into the build folder and the JSBSim protocol probe).
 DEV_SCRIPTS="bench/bag_vs_cli.py bench/perf_report.py bench/prototype_rac.py bench/ros_bench.sh
 bench/run_bench.sh scripts/check_format scripts/config_mutation_study scripts/fuzz
 scripts/install_deps scripts/junit_wrap scripts/noise_study scripts/python_files
 scripts/reproduction_study scripts/robust_study scripts/regime_effectiveness_study
 scripts/switch_reaction_study
 scripts/check_baseline_identical scripts/run_demo scripts/slurm/submit_sweep
-scripts/slurm/sweep_array.sbatch scripts/two_machines_env.sh scripts/test scripts/summarize_tests"
-DEV_TARGETS="bench_controller wakeup_floor"
+scripts/slurm/sweep_array.sbatch scripts/two_machines_env.sh scripts/test scripts/summarize_tests
+scripts/install_jsbsim jsbsim/tools/jsbsim_probe.py"
+DEV_TARGETS="bench_controller wakeup_floor bench_jsbsim"
 
 args=(-W2)
 for id in "${IGNORE[@]}"; do args+=(--ignore "$id"); done

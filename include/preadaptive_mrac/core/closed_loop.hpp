@@ -57,6 +57,10 @@ struct Series {
   /// The plant's conditions over each step (core/sim/plant_conditions.hpp), recorded only when
   /// it has some (ScenarioPlant::hasConditions). Empty for the paper's ideal plant.
   std::vector<PlantConditions> conditions;
+  /// What a six-degree-of-freedom engine (plant.engine jsbsim) reports beside x at t_k:
+  /// pitch attitude [rad], true airspeed [m/s], altitude [m], flight path angle [rad]. Empty
+  /// on the linear plant.
+  std::vector<double> pitch, airspeed, altitude, flight_path;
 };
 
 /// \brief Options of a batch run.

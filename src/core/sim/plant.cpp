@@ -52,6 +52,8 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   readChecked(r, prefix, static_cast<TurbulenceParams*>(&c.turbulence));
   // (absent: the B-747 defaults, checked, without a note: a run inside reports as before)
   readChecked(r, prefix, static_cast<FlightEnvelopeParams*>(&c.envelope));
+  // (absent: the defaults, without a note: a linear run reports what it reported before)
+  readChecked(r, prefix, static_cast<JsbsimParams*>(&c.jsbsim));
   // The operating point documents where A and B come from; its airspeed U is the V of the
   // turbulence filter, so required when turbulence is on.
   const std::string uk = prefix + ".operating_point.U";
@@ -74,6 +76,31 @@ void PlantConfig::validate(ParamReader& r, const std::string& prefix) const {
            "must be in [0, " + std::to_string(n - 1) + "], got " + std::to_string(output_index));
   if (r.usable(prefix + ".B") && B.size() == n && B.isZero(0.0))
     r.fail(prefix + ".B", "must not be all zero");
+  if (engine == PlantEngineKind::kJsbsim) validateJsbsim(r, prefix);
+}
+
+void PlantConfig::validateJsbsim(ParamReader& r, const std::string& prefix) const {
+  // JSBSim integrates alpha and q; the package integrates e_I = int (alpha - r) dt. So the
+  // state must be the paper's x = [e_I, alpha, q] with its integrator row, and the run starts
+  // at the trim (alpha and q are perturbations from it).
+  const std::string why = " with plant.engine jsbsim (x = [e_I, alpha, q], e_I_dot = alpha - r)";
+  if (A.rows() != 3 || A.cols() != 3) {
+    r.fail(prefix + ".A", "must be 3 x 3" + why);
+    return;
+  }
+  if (r.usable(prefix + ".output_index") && output_index != 1)
+    r.fail(prefix + ".output_index", "must be 1 (alpha)" + why);
+  if (r.usable(prefix + ".A") && !(A(0, 0) == 0.0 && A(0, 1) == 1.0 && A(0, 2) == 0.0))
+    r.fail(prefix + ".A", "its first row must be [0, 1, 0]" + why);
+  if (r.usable(prefix + ".B") && B.size() == 3 && B[0] != 0.0)
+    r.fail(prefix + ".B", "its first entry must be 0" + why);
+  if (r.usable(prefix + ".B1r") && B1r.size() == 3 &&
+      !(B1r[0] == -1.0 && B1r[1] == 0.0 && B1r[2] == 0.0))
+    r.fail(prefix + ".B1r", "must be [-1, 0, 0]" + why);
+  if (r.usable(prefix + ".x0") && x0.size() == 3 && !(x0[1] == 0.0 && x0[2] == 0.0))
+    r.fail(prefix + ".x0",
+           "alpha and q must start at 0 with plant.engine jsbsim (the run starts at the trim; "
+           "e_I may start anywhere)");
 }
 
 double ActuatorLimits::apply(double u, double u_prev, double dt) const {

@@ -27,6 +27,10 @@ size_t Scenario::effectivenessIndexFrom(double t, size_t from) const {
   return segmentFrom(effectiveness, t, from);
 }
 
+size_t Scenario::faultIndexFrom(double t, size_t from) const {
+  return segmentFrom(faults, t, from);
+}
+
 double Scenario::effectivenessAt(double t) const {
   return effectiveness.empty() ? 1.0 : effectiveness[effectivenessIndexFrom(t, 0)].value;
 }
@@ -123,6 +127,28 @@ Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
       r.fail(ek, "the last effectiveness segment must reach the scenario end " +
                      formatNumber(sc.endTime()) + " s, it ends at " +
                      formatNumber(sc.effectiveness.back().until) + " s");
+  }
+  // Absent: the nominal aircraft, no note (as the effectiveness schedule).
+  const std::string fk = prefix + ".faults";
+  if (r.has(fk)) {
+    sc.faults = readSegments<FaultSegment>(r, fk, [&](const std::string& seg, FaultSegment* s) {
+      auto opt = [&](const char* key, double* v, double lo, double hi, const char* what) {
+        const std::string k = seg + key;
+        if (!r.has(k)) return;
+        *v = r.getDouble(k);
+        if (r.usable(k) && !(*v >= lo && *v <= hi))
+          r.fail(k, std::string(what) + " must be in [" + formatNumber(lo) + ", " +
+                        formatNumber(hi) + "], got " + formatNumber(*v));
+      };
+      opt(".cg_shift", &s->cg_shift, -0.3, 0.3, "the CG shift [fraction of the chord, + aft]");
+      opt(".elevator_effectiveness", &s->elevator_effectiveness, 0.0, 2.0,
+          "the elevator effectiveness multiplier");
+      opt(".pitch_damping", &s->pitch_damping, 0.0, 2.0, "the pitch damping multiplier");
+    });
+    if (!sc.faults.empty() && !sc.theta.empty() && sc.faults.back().until < sc.endTime())
+      r.fail(fk, "the last fault segment must reach the scenario end " +
+                     formatNumber(sc.endTime()) + " s, it ends at " +
+                     formatNumber(sc.faults.back().until) + " s");
   }
   return sc;
 }

@@ -19,9 +19,13 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {
   if (!(dt > 0.0)) throw std::invalid_argument("dt must be > 0");
+  engine_ = makePlantEngine(plant, dt);
+  // The gust filter's V on an engine is its trimmed airspeed (operating_point.U is the
+  // linear model's).
+  if (engine_ && gust_.active()) gust_ = DrydenGust(plant.turbulence, engine_->trimAirspeed(), dt);
   // Samples t_k = k dt with t_k < t_end (a tolerance guards against round-off in t_end / dt).
   steps_ = static_cast<std::int64_t>(std::ceil(scenario_.endTime() / dt_ - 1e-9));
-  if (gust_.active()) {
+  if (gust_.active() && !engine_) {
     inv_airspeed_ = 1.0 / plant.airspeed;
     gust_col_ = plant.A.col(plant.output_index);
     for (Eigen::Index i = 0; i < gust_col_.size(); ++i)
@@ -35,6 +39,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
 
 void ScenarioPlant::reset() {
   plant_.reset();
+  if (engine_) engine_->reset();
   k_ = 0;
   u_cmd_ = 0.0;
   limited_steps_ = 0;
@@ -43,6 +48,7 @@ void ScenarioPlant::reset() {
   cond_ = PlantConditions();
   envelope_.reset();
   theta_idx_ = r_idx_ = lambda_idx_ = 0;
+  fault_idx_ = 0;
   noise_.reseed(noise_cfg_.seed);
   sampleInputs();
 }
@@ -62,7 +68,12 @@ void ScenarioPlant::sampleInputs() {
     cond_.effectiveness = scenario_.effectiveness[lambda_idx_].value;
   }
   cond_.w_gust = gust_.value();
-  copyTo(plant_.state(), &measured_);
+  if (engine_ && !scenario_.faults.empty()) {
+    fault_idx_ = scenario_.faultIndexFrom(mid, fault_idx_);
+    const auto& f = scenario_.faults[fault_idx_];
+    engine_->setFaults({f.cg_shift, f.elevator_effectiveness, f.pitch_damping});
+  }
+  copyTo(state(), &measured_);
   if (noisy_)
     for (Eigen::Index i = 0; i < measured_.size(); ++i)
       measured_[i] += noise_cfg_.std[i] * noise_.next();
@@ -70,14 +81,17 @@ void ScenarioPlant::sampleInputs() {
 
 void ScenarioPlant::advance(double u) {
   u_cmd_ = u;
-  envelope_.checkCommand(k_, time(), u, plant_.state(), cond_);
+  envelope_.checkCommand(k_, time(), u, state(), cond_);
   const double applied = actuator_.apply(u);
   if (actuator_.limited()) ++limited_steps_;
   cond_.u_applied = applied;
   cond_.plant_limited = actuator_.limited() ? 1.0 : 0.0;
   // Without a schedule the applied deflection goes in as it is: the paper's bits.
   const double effect = has_lambda_ ? cond_.effectiveness * applied : applied;
-  if (gust_.active()) {
+  if (engine_) {
+    engine_->step(dt_, theta_, effect, r_, gust_.active() ? gust_.value() : 0.0);
+    if (gust_.active()) gust_.advance();
+  } else if (gust_.active()) {
     disturbance_ = gustAlpha() * gust_col_;
     plant_.stepDisturbed(dt_, theta_, effect, r_, disturbance_);
     gust_.advance();
@@ -86,7 +100,7 @@ void ScenarioPlant::advance(double u) {
   }
   ++k_;
   sampleInputs();
-  envelope_.checkState(k_, time(), plant_.state(), u, cond_);
+  envelope_.checkState(k_, time(), state(), u, cond_);
 }
 
 }  // namespace preadaptive_mrac

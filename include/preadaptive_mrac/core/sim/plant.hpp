@@ -78,12 +78,16 @@ struct PlantConfig : PlantParams {
   ActuatorDynamics dynamics;    ///< servo delay and lag (the controller is not told)
   TurbulenceConfig turbulence;  ///< Dryden vertical gust (the controller is not told)
   FlightEnvelope envelope;      ///< bounds the plant checks on every step (issue 35)
+  JsbsimParams jsbsim;          ///< the JSBSim process and operating point (engine jsbsim)
 
   int n() const { return static_cast<int>(A.rows()); }
   /// \brief Read the `plant` section; problems go to the reader.
   static PlantConfig read(ParamReader& r, const std::string& prefix = "plant");
   /// \brief Add every problem of the values themselves (sizes, finiteness) to the reader.
   void validate(ParamReader& r, const std::string& prefix = "plant") const;
+  /// \brief The rules of plant.engine jsbsim: x = [e_I, alpha, q] with e_I_dot = alpha - r,
+  /// starting at the trim.
+  void validateJsbsim(ParamReader& r, const std::string& prefix) const;
 };
 
 /// \brief The simulation truth: integrates the plant one step with theta, u and r held.

@@ -31,10 +31,19 @@ struct Scenario : ScenarioParams {
     double until;
     double value;
   };
+  /// \brief Physical faults of a six-degree-of-freedom plant (plant.engine jsbsim) over
+  /// (previous until, until]: centre-of-gravity shift, loss of elevator effectiveness in the
+  /// aerodynamics, loss of pitch damping (PhysicalFaults; nominal where a key is left out).
+  struct FaultSegment {
+    double until;
+    double cg_shift = 0.0, elevator_effectiveness = 1.0, pitch_damping = 1.0;
+  };
   std::vector<ThetaSegment> theta;
   std::vector<RefSegment> reference;
   /// Elevator effectiveness schedule (key `effectiveness`); empty = Lambda 1 throughout.
   std::vector<EffectivenessSegment> effectiveness;
+  /// Physical fault schedule (key `faults`); empty = the nominal aircraft throughout.
+  std::vector<FaultSegment> faults;
 
   /// \brief End time [s] (the last theta segment's until).
   double endTime() const;
@@ -51,6 +60,8 @@ struct Scenario : ScenarioParams {
   size_t rIndexFrom(double t, size_t from) const;
   /// \brief The same for the effectiveness segments (callers check it is not empty).
   size_t effectivenessIndexFrom(double t, size_t from) const;
+  /// \brief The same for the fault segments (callers check it is not empty).
+  size_t faultIndexFrom(double t, size_t from) const;
   /// \brief Elevator effectiveness Lambda at time t [s] (1 without a schedule).
   double effectivenessAt(double t) const;
   /// \brief Times where theta changes (every until but the last).

@@ -4,11 +4,13 @@
 /// (delay, lag, limits), the elevator effectiveness and Dryden turbulence applied to it.
 
 #include <cstdint>
+#include <memory>
 
 #include "preadaptive_mrac/core/sim/actuator.hpp"
 #include "preadaptive_mrac/core/sim/envelope.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/sim/plant_conditions.hpp"
+#include "preadaptive_mrac/core/sim/plant_engine.hpp"
 #include "preadaptive_mrac/core/sim/scenario.hpp"
 #include "preadaptive_mrac/core/sim/turbulence.hpp"
 
@@ -25,6 +27,10 @@ namespace preadaptive_mrac {
 /// with g the alpha column of A in every row but the tracking-error integrator's (the rows
 /// where B1r is 0: the integrator integrates the measured alpha), and moves to k + 1.
 /// done() once t_k >= t_end. The controller is told none of this.
+///
+/// With plant.engine jsbsim a PlantEngine (JSBSim, trimmed) integrates instead of the linear
+/// model: the same actuator chain, Lambda, theta, noise and gust, the gust as a vertical wind
+/// (PlantEngine::step); A, B, B1r are then only the controller's model.
 class ScenarioPlant {
  public:
   ScenarioPlant(const PlantConfig& plant, const Scenario& scenario, double dt);
@@ -35,7 +41,12 @@ class ScenarioPlant {
   double dt() const { return dt_; }
   bool done() const { return k_ >= steps_; }
   /// \brief True state x_k.
-  const Vec& state() const { return plant_.state(); }
+  const Vec& state() const { return engine_ ? engine_->state() : plant_.state(); }
+  /// \brief Pitch attitude, airspeed, altitude, flight path angle at t_k: nullptr on the
+  /// linear plant.
+  const FlightOutputs* flight() const { return engine_ ? &engine_->flight() : nullptr; }
+  /// \brief The engine (nullptr on the linear plant).
+  PlantEngine* engine() const { return engine_.get(); }
   /// \brief What a sensor reports at t_k: x_k plus the configured noise (x_k when none).
   const Vec& measured() const { return measured_; }
   double reference() const { return r_; }
@@ -76,6 +87,7 @@ class ScenarioPlant {
  private:
   void sampleInputs();
   Plant plant_;
+  std::unique_ptr<PlantEngine> engine_;  // plant.engine other than linear
   Scenario scenario_;
   double dt_;
   std::int64_t k_ = 0, steps_ = 0;
@@ -96,6 +108,7 @@ class ScenarioPlant {
   double u_cmd_ = 0.0;
   std::int64_t limited_steps_ = 0;
   size_t theta_idx_ = 0, r_idx_ = 0, lambda_idx_ = 0;  // segments of the current sample
+  size_t fault_idx_ = 0;
 };
 
 }  // namespace preadaptive_mrac

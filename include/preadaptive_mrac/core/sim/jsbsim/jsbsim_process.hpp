@@ -1,0 +1,93 @@
+#pragma once
+/// \file jsbsim_process.hpp
+/// \brief One JSBSim process driven through its input socket (POSIX + STL): started on a free
+/// port, connected with retry, set / get / iterate / trim with the traps of the Debian 2020.3
+/// binary handled (jsbsim/README.md), and ended whatever happens.
+
+#include <sys/types.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace preadaptive_mrac {
+
+/// \brief Anything that goes wrong with JSBSim: the message says what and how to fix it.
+class JsbsimError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief How to start JSBSim.
+struct JsbsimLaunch {
+  std::string executable;  ///< empty: $PMRAC_JSBSIM, /usr/games/JSBSim, <build>/jsbsim/bin/JSBSim
+  std::string root;        ///< JSBSim's --root; empty: the package's share/preadaptive_mrac/jsbsim
+  std::string aircraft = "b747_pmrac";
+  std::string initialize = "cruise_m080_h40k";  ///< the aircraft folder's initial-condition file
+  double dt = 0.001;                            ///< JSBSim's frame [s]
+  double timeout = 10.0;                        ///< start-up and reply timeout [s]
+};
+
+/// \brief The JSBSim binary to run: `configured` when not empty (it must be executable), else
+/// the first of $PMRAC_JSBSIM, /usr/games/JSBSim and the build folder's jsbsim/bin/JSBSim
+/// (scripts/install_jsbsim). Throws JsbsimError naming the places tried and the fix.
+std::string findJsbsimExecutable(const std::string& configured);
+/// \brief JSBSim's --root: `configured` when not empty, else the package's
+/// share/preadaptive_mrac/jsbsim found from the running executable (as config/ is), else
+/// ./jsbsim. Throws JsbsimError when the aircraft folder is not there.
+std::string findJsbsimRoot(const std::string& configured, const std::string& aircraft);
+
+/// \brief One JSBSim process in socket lockstep, held between steps.
+///
+/// The process is forked with PR_SET_PDEATHSIG (SIGKILL) in its own process group, so it
+/// dies with the thread that started it whatever ends that (an exception, Ctrl-C, SIGKILL);
+/// the destructor kills the group and reaps it. One connection per process (the server
+/// serves one client, once); a fresh free port per process (a port is not reusable at once).
+class JsbsimProcess {
+ public:
+  explicit JsbsimProcess(const JsbsimLaunch& launch);
+  ~JsbsimProcess();
+  JsbsimProcess(const JsbsimProcess&) = delete;
+  JsbsimProcess& operator=(const JsbsimProcess&) = delete;
+
+  /// \brief Send `packet` (lines ending in '\n') in one write and return the reply text of
+  /// each of its `lines` commands (the text before each prompt).
+  const std::vector<std::string>& transact(const std::string& packet, size_t lines);
+  /// \brief Send `first` and then `second` in two writes without waiting in between, and
+  /// return the replies of both (first's `lines1`, then second's `lines2`).
+  const std::vector<std::string>& transact2(const std::string& first, size_t lines1,
+                                            const char* second, size_t lines2);
+  /// \brief Set a property (the value written with 17 significant digits).
+  void set(const std::string& property, double value);
+  /// \brief Read properties in one packet (6 significant digits: JSBSim's `get`).
+  std::vector<double> get(const std::vector<std::string>& properties);
+  /// \brief JSBSim's longitudinal trim (simulation/do_simple_trim 0) from the current ic/
+  /// values; the process ends when it fails, which is reported as a JsbsimError saying so.
+  void trim(const std::string& what);
+  /// \brief Parse the reply to `get name` ("name = value").
+  static double parseGet(const std::string& reply, const std::string& name);
+
+  pid_t pid() const { return pid_; }
+  int port() const { return port_; }
+  /// \brief The last lines of JSBSim's own output (for messages).
+  std::string logTail(size_t max_lines = 8) const;
+  /// \brief Kill the process group and reap it (idempotent).
+  void stop();
+
+ private:
+  [[noreturn]] void failDead(const std::string& what);
+  void startOnce(const JsbsimLaunch& launch, const std::string& exe, const std::string& root);
+  void readPrompts(size_t n);
+  void sendAll(const char* data, size_t size);
+  bool exited(int* status, double wait_s);
+  void removeDir();
+  pid_t pid_ = -1;
+  int fd_ = -1;
+  int port_ = 0;
+  int timeout_ms_ = 10000;
+  std::string dir_, log_path_;
+  std::string buf_;
+  std::vector<std::string> replies_;
+};
+
+}  // namespace preadaptive_mrac

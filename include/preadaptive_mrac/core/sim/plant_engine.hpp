@@ -1,0 +1,62 @@
+#pragma once
+/// \file plant_engine.hpp
+/// \brief What integrates the plant when it is not the linear model (plant.engine): the
+/// interface ScenarioPlant steps, and what such an engine reports beyond x.
+
+#include <memory>
+
+#include "preadaptive_mrac/core/types.hpp"
+
+namespace preadaptive_mrac {
+
+struct PlantConfig;
+
+/// \brief What a six-degree-of-freedom engine knows and the linear model never had (SI units),
+/// at the current sample.
+struct FlightOutputs {
+  double pitch = 0.0;        ///< pitch attitude theta [rad]
+  double airspeed = 0.0;     ///< true airspeed [m/s]
+  double altitude = 0.0;     ///< altitude above sea level [m]
+  double flight_path = 0.0;  ///< flight path angle gamma [rad]
+};
+
+/// \brief Physical faults of the aircraft (scenario key `faults`), nominal by default.
+struct PhysicalFaults {
+  double cg_shift = 0.0;                ///< centre-of-gravity shift [fraction of c, + aft]
+  double elevator_effectiveness = 1.0;  ///< multiplier of the elevator's aerodynamic derivatives
+  double pitch_damping = 1.0;           ///< multiplier of Cmq and Cmalphadot
+  bool operator==(const PhysicalFaults& o) const {
+    return cg_shift == o.cg_shift && elevator_effectiveness == o.elevator_effectiveness &&
+           pitch_damping == o.pitch_damping;
+  }
+  bool operator!=(const PhysicalFaults& o) const { return !(*this == o); }
+};
+
+/// \brief A plant integrator other than the linear model: state x = [e_I, alpha, q] with alpha
+/// and q perturbations from the trim, stepped one sample at a time.
+class PlantEngine {
+ public:
+  virtual ~PlantEngine() = default;
+  /// \brief Back to the start: the trim, e_I = x0[0], nominal faults.
+  virtual void reset() = 0;
+  virtual const Vec& state() const = 0;
+  /// \brief One step of dt [s] with the elevator's effect `effect` (Lambda times the applied
+  /// deflection [rad], from the trim), the matched uncertainty theta^T x added to it, the
+  /// command r [rad] and the vertical gust w_g [m/s, + up], all held over the step.
+  virtual void step(double dt, const Vec& theta, double effect, double r, double gust) = 0;
+  /// \brief Faults from the next step on.
+  virtual void setFaults(const PhysicalFaults& faults) = 0;
+  virtual const FlightOutputs& flight() const = 0;
+  /// \brief Whether flight() must carry the airspeed and altitude of every step (on by
+  /// default; off, they keep the trim's: a batch run without a time series saves the reads).
+  /// Pitch attitude and flight path angle are always current (alpha is made of them).
+  virtual void readFlight(bool on) = 0;
+  /// \brief The trimmed true airspeed [m/s] (the V of the gust filter).
+  virtual double trimAirspeed() const = 0;
+};
+
+/// \brief The engine plant.engine names, started and trimmed (nullptr for `linear`: the
+/// linear model is ScenarioPlant's own). Throws JsbsimError when JSBSim cannot run.
+std::unique_ptr<PlantEngine> makePlantEngine(const PlantConfig& cfg, double dt);
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,243 @@
+#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_plant.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <vector>
+
+#include "preadaptive_mrac/core/sim/plant.hpp"
+
+namespace preadaptive_mrac {
+
+namespace {
+
+constexpr double kFt = 0.3048;  // [m/ft]
+// The reads of a completed step: the aerodynamics' copy of the frame (the step's completion
+// marker), then the deviations from the references (jsbsim/README.md "precision" and
+// "lockstep"). A read served in the middle of the step (after the integrator, before the
+// second model pass) finds the marker still at the previous frame, one served before the step
+// too: only marker == the frame before + 1 is a completed step. (simulation/frame itself adds
+// nothing: it is ahead of the marker exactly in the middle of a step.)
+const char kReadPacket[] =
+    "get pmrac/sync/frame\nget pmrac/dev/theta-rad\nget pmrac/dev/gamma-rad\n"
+    "get pmrac/dev/q-rad_sec\nget pmrac/dev/vt-fps\nget pmrac/dev/h-sl-ft\n";
+const char* const kReadNames[] = {"pmrac/sync/frame",    "pmrac/dev/theta-rad",
+                                  "pmrac/dev/gamma-rad", "pmrac/dev/q-rad_sec",
+                                  "pmrac/dev/vt-fps",    "pmrac/dev/h-sl-ft"};
+constexpr size_t kReadLines = 6;
+// The same without airspeed and altitude (JsbsimPlant::readFlight(false)): each line costs
+// about 5 % of a step.
+const char kReadPacketShort[] =
+    "get pmrac/sync/frame\nget pmrac/dev/theta-rad\nget pmrac/dev/gamma-rad\n"
+    "get pmrac/dev/q-rad_sec\n";
+// A read that keeps coming mid-step this often is no longer a race but a broken lockstep.
+constexpr int kMaxRereads = 100000;
+
+JsbsimLaunch launchOf(const JsbsimParams& p, double dt) {
+  JsbsimLaunch l;
+  l.executable = p.executable;
+  l.root = p.root;
+  l.aircraft = p.aircraft;
+  l.initialize = p.initialize;
+  l.dt = dt;
+  l.timeout = p.timeout;
+  return l;
+}
+
+void appendSet(std::string* packet, const char* property, double value) {
+  char line[160];
+  const int n = std::snprintf(line, sizeof line, "set %s %.17g\n", property, value);
+  packet->append(line, static_cast<size_t>(n));
+}
+
+}  // namespace
+
+JsbsimPlant::JsbsimPlant(const JsbsimParams& params, double dt, double e_i0)
+    : params_(params),
+      dt_(dt),
+      e_i0_(e_i0),
+      proc_(launchOf(params, dt)),
+      refs_{{{"pmrac/ref/theta-rad", &theta_, 1e-4},
+             {"pmrac/ref/gamma-rad", &gamma_, 1e-4},
+             {"pmrac/ref/q-rad_sec", &q_, 1e-4},
+             {"pmrac/ref/vt-fps", &vt_, 0.1},
+             {"pmrac/ref/h-sl-ft", &h_, 1.0}}} {
+  x_.setZero(3);
+  packet_.reserve(1024);
+  // JSBSim's trim starts from the initial condition and leaves it changed: the attitude and
+  // position the initialize file gave are read once (6 digits) and written back before every
+  // trim, so that every reset() trims from the same point to the same bits.
+  static const char* const kIc[] = {"ic/lat-gc-rad", "ic/long-gc-rad", "ic/psi-true-rad",
+                                    "ic/phi-rad",    "ic/beta-rad",    "ic/alpha-rad"};
+  const std::vector<double> v = proc_.get(std::vector<std::string>(std::begin(kIc), std::end(kIc)));
+  for (size_t i = 0; i < v.size(); ++i) appendSet(&ic_packet_, kIc[i], v[i]);
+  ic_lines_ = v.size();
+  reset();
+}
+
+void JsbsimPlant::reset() {
+  char where[128];
+  std::snprintf(where, sizeof where, "Mach %g, %g ft", params_.mach, params_.altitude_ft);
+  // Nominal inputs, no wind, the operating point; then JSBSim's trim from it.
+  std::string p = ic_packet_;
+  appendSet(&p, "fcs/pmrac-elevator-cmd-rad", 0.0);
+  appendSet(&p, "pmrac/fault/elevator-effectiveness", 1.0);
+  appendSet(&p, "pmrac/fault/pitch-damping", 1.0);
+  appendSet(&p, "pmrac/fault/cg-shift-mac", 0.0);
+  appendSet(&p, "atmosphere/wind-down-fps", 0.0);
+  appendSet(&p, "ic/h-sl-ft", params_.altitude_ft);
+  appendSet(&p, "ic/mach", params_.mach);
+  appendSet(&p, "ic/gamma-rad", 0.0);
+  const auto& rep = proc_.transact(p, 8 + ic_lines_);
+  for (const auto& line : rep)
+    if (line.find("set successful") == std::string::npos)
+      throw JsbsimError(
+          "JSBSim refused an input of the aircraft '" + params_.aircraft +
+          "' (is it the package's, with the fcs/pmrac-* and pmrac/* properties?): " + line);
+  proc_.trim(where);
+  // 6 significant digits first; they become the references of the full-precision reads.
+  const std::vector<std::string> names = {"attitude/theta-rad",    "flight-path/gamma-rad",
+                                          "velocities/q-rad_sec",  "velocities/vt-fps",
+                                          "position/h-sl-ft",      "fcs/elevator-pos-rad",
+                                          "fcs/throttle-cmd-norm", "propulsion/engine/thrust-lbs",
+                                          "velocities/mach"};
+  const std::vector<double> v = proc_.get(names);
+  theta_ = v[0];
+  gamma_ = v[1];
+  q_ = v[2];
+  vt_ = v[3];
+  h_ = v[4];
+  trim_.elevator = v[5];
+  trim_.throttle = v[6];
+  trim_.thrust_lbf = v[7];
+  trim_.mach = v[8];
+  // The deviations are computed when the aerodynamics runs: trim again (from the same
+  // operating point, so to the same state) with the references set, then read them.
+  p = ic_packet_;
+  appendSet(&p, "ic/h-sl-ft", params_.altitude_ft);
+  appendSet(&p, "ic/mach", params_.mach);
+  appendSet(&p, "ic/gamma-rad", 0.0);
+  appendSet(&p, "pmrac/ref/theta-rad", theta_);
+  appendSet(&p, "pmrac/ref/gamma-rad", gamma_);
+  appendSet(&p, "pmrac/ref/q-rad_sec", q_);
+  appendSet(&p, "pmrac/ref/vt-fps", vt_);
+  appendSet(&p, "pmrac/ref/h-sl-ft", h_);
+  proc_.transact(p, 8 + ic_lines_);
+  refs_[0].at = theta_;
+  refs_[1].at = gamma_;
+  refs_[2].at = q_;
+  refs_[3].at = vt_;
+  refs_[4].at = h_;
+  proc_.trim(where);
+  frame_ = static_cast<std::int64_t>(proc_.get({"pmrac/sync/frame"})[0]);
+  readStep(frame_);
+  trim_.pitch = theta_;
+  trim_.flight_path = gamma_;
+  trim_.alpha = theta_ - gamma_;
+  trim_.q = q_;
+  trim_.airspeed = vt_ * kFt;
+  trim_.altitude = h_ * kFt;
+  x_.setZero(3);
+  x_[0] = e_i0_;
+  faults_ = sent_faults_ = PhysicalFaults{};
+  wind_sent_ = false;
+  de_ = 0.0;
+  flight_ = {theta_, vt_ * kFt, h_ * kFt, gamma_};
+}
+
+bool JsbsimPlant::takeRead(const std::vector<std::string>& r, size_t at,
+                           std::int64_t expected_frame) {
+  const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
+  double v[kReadLines];
+  for (size_t i = 0; i < lines; ++i) v[i] = JsbsimProcess::parseGet(r[at + i], kReadNames[i]);
+  const auto frame = static_cast<std::int64_t>(v[0]);
+  if (frame == expected_frame) {
+    theta_ = refs_[0].at + v[1];
+    gamma_ = refs_[1].at + v[2];
+    q_ = refs_[2].at + v[3];
+    if (read_flight_) {
+      vt_ = refs_[3].at + v[4];
+      h_ = refs_[4].at + v[5];
+    }
+    return true;
+  }
+  if (frame > expected_frame)
+    throw JsbsimError("JSBSim lost the lockstep: its aerodynamics ran frame " +
+                      std::to_string(frame) + " where frame " + std::to_string(expected_frame) +
+                      " was expected");
+  return false;
+}
+
+void JsbsimPlant::readStep(std::int64_t expected_frame) {
+  // (airspeed and altitude, the packet's last two lines, only when asked for)
+  const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
+  for (int tries = 0;; ++tries) {
+    const auto& r = proc_.transact(read_flight_ ? kReadPacket : kReadPacketShort, lines);
+    if (takeRead(r, 0, expected_frame)) return;
+    if (tries >= kMaxRereads)
+      throw JsbsimError("JSBSim lost the lockstep: frame " + std::to_string(expected_frame) +
+                        " did not complete after " + std::to_string(kMaxRereads) + " reads");
+    ++rereads_;
+  }
+}
+
+void JsbsimPlant::step(double dt, const Vec& theta, double effect, double r, double gust) {
+  // The paper's matched uncertainty in the elevator path: deflection = Lambda u + theta^T x.
+  de_ = effect + theta.dot(x_);
+  packet_.clear();
+  appendSet(&packet_, "fcs/pmrac-elevator-cmd-rad", de_);
+  size_t lines = 1;
+  if (gust != 0.0 || wind_sent_) {
+    // An updraft w_g raises alpha: the air moves up, the wind's down component is -w_g.
+    appendSet(&packet_, "atmosphere/wind-down-fps", -gust / kFt);
+    wind_sent_ = true;
+    ++lines;
+  }
+  if (faults_ != sent_faults_) {
+    appendSet(&packet_, "pmrac/fault/cg-shift-mac", faults_.cg_shift);
+    appendSet(&packet_, "pmrac/fault/elevator-effectiveness", faults_.elevator_effectiveness);
+    appendSet(&packet_, "pmrac/fault/pitch-damping", faults_.pitch_damping);
+    sent_faults_ = faults_;
+    lines += 3;
+  }
+  // A reference moves to its variable's value once the deviation has grown past its bound:
+  // `get` then resolves the variable to 6 significant digits of at most the bound (theta,
+  // gamma: 5e-11 rad; q: 5e-11 rad/s; airspeed 5e-8 ft/s; altitude 5e-7 ft) at the cost of
+  // a `set` only every so many steps.
+  for (Ref& ref : refs_) {
+    if (std::abs(*ref.value - ref.at) > ref.bound) {
+      appendSet(&packet_, ref.property, *ref.value);
+      ref.at = *ref.value;
+      ++lines;
+    }
+  }
+  packet_ += "iterate 1\n";
+  ++lines;
+  // The read goes out right behind the step, without waiting for the step's replies: when
+  // JSBSim takes it in after the step (its next input pass) one round trip is saved; when in
+  // the same pass as `iterate` (before the step) or in the middle of the step, the marker
+  // says so and the read is repeated.
+  const size_t read_lines = read_flight_ ? kReadLines : kReadLines - 2;
+  const auto& rep =
+      proc_.transact2(packet_, lines, read_flight_ ? kReadPacket : kReadPacketShort, read_lines);
+  for (size_t i = 0; i + 1 < lines; ++i)
+    if (rep[i].compare(0, 14, "set successful") != 0)
+      throw JsbsimError("JSBSim refused a step input: '" + rep[i] + "'");
+  const double alpha_before = x_[1];
+  ++frame_;
+  if (takeRead(rep, lines, frame_))
+    ++early_reads_;
+  else
+    readStep(frame_);
+  x_[1] = (theta_ - gamma_) - trim_.alpha;
+  x_[2] = q_ - trim_.q;
+  x_[0] += dt * (0.5 * (alpha_before + x_[1]) - r);
+  flight_ = {theta_, vt_ * kFt, h_ * kFt, gamma_};
+}
+
+std::unique_ptr<PlantEngine> makePlantEngine(const PlantConfig& cfg, double dt) {
+  if (cfg.engine != PlantEngineKind::kJsbsim) return nullptr;
+  return std::make_unique<JsbsimPlant>(cfg.jsbsim, dt, cfg.x0.size() > 0 ? cfg.x0[0] : 0.0);
+}
+
+}  // namespace preadaptive_mrac

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Issue 36: the JSBSim binary installs without FlightGear (scripts/install_jsbsim), the
+# package's aircraft jsbsim/aircraft/b747_pmrac loads, JSBSim's own trim holds Mach 0.8 at
+# 40,000 ft, and the short-period model identified from a 1 ms socket lockstep run is within 2 %
+# of Heffley and Jewell's condition 9 (jsbsim/tools/jsbsim_probe.py linearise --check). No
+# JSBSim process may be left behind.
+set -uo pipefail
+TEST_NAME=jsbsim_aircraft
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+FAIL=0
+before=$(pgrep -x JSBSim | sort)
+if ! bin=$("$ROOT/scripts/install_jsbsim" | tail -n1) || [ ! -x "$bin" ]; then
+  echo "FAIL: scripts/install_jsbsim did not give a JSBSim binary"
+  echo "$TEST_NAME: FAILED"
+  exit 1
+fi
+if ! PMRAC_JSBSIM=$bin /usr/bin/python3 "$ROOT/jsbsim/tools/jsbsim_probe.py" linearise --duration 3 --check; then
+  echo "FAIL: trim or linearisation of b747_pmrac"
+  FAIL=1
+fi
+after=$(pgrep -x JSBSim | sort)
+left=$(comm -13 <(echo "$before") <(echo "$after"))
+if [ -n "$left" ]; then
+  echo "FAIL: JSBSim processes left behind: $left"
+  FAIL=1
+fi
+if [ "$FAIL" = 0 ]; then echo "$TEST_NAME: PASSED"; else echo "$TEST_NAME: FAILED"; fi
+exit "$FAIL"
