@@ -1,6 +1,7 @@
 """Studies run on the batch tools or through roslaunch: robust (scenario family), noise,
 config_mutation (broken YAML keys through roslaunch; the mutations themselves in
-yaml_mutations). scripts/<name>_study are their entry points.
+yaml_mutations), l1_reference_margin (the time-delay margin of l1's loops, computed, no tool
+run). scripts/<name>_study are their entry points.
 """
 
 
