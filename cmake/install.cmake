@@ -77,7 +77,7 @@ install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION
 catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers scripts/live_plot
                                scripts/reindex_bags
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-# roslaunch that exits non-zero when a node died (docs/ros.md), with the environment it sources.
+# roslaunch that exits non-zero when a node died (docs/reference/ros.md), with the environment it sources.
 install(PROGRAMS scripts/lib/launch_checked DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(FILES scripts/lib/ros_env DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # The launch-prefix compare.launch's pairs name their parent namespace's manager, recorder

@@ -335,7 +335,7 @@ int PlantSimNode::runLockstep() {
   if (!waitForSubscribers()) return kExitRuntimeError;
   // ~cpu_affinity (not ~rt_priority: lockstep has no deadlines): with the controller's thread
   // pinned to the same CPU each hand-off of the round trip is a switch on that CPU, not a
-  // wake-up of another (docs/ros.md).
+  // wake-up of another (docs/reference/ros.md).
   const SchedulingResult sched = applyRealtimeScheduling(0, params_.cpu_affinity);
   if (!sched.warnings.empty()) ROS_WARN("%s", sched.warnings.c_str());
   scheduling_ = sched.describe();

@@ -20,7 +20,7 @@ class ParamReader;
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig : ControllerParams {
   RobustConfig robust;  ///< pa_robust (optional section `controller.robust`)
-  L1Config l1;          ///< mode l1 (optional section `controller.l1`; docs/l1.md)
+  L1Config l1;          ///< mode l1 (optional section `controller.l1`; docs/research/l1.md)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   /// The mode's name is checked against the registry where the parts are put together

@@ -2,7 +2,7 @@
 /// \file robust_preadaptation.hpp
 /// \brief `pa_robust`: preadaptation that detects a switch from the identification residual,
 /// predicts theta from a bounded memory of regimes (and the network), and verifies every
-/// candidate against the measured data before it moves theta_hat (docs/robust.md).
+/// candidate against the measured data before it moves theta_hat (docs/research/robust.md).
 ///
 /// Identification data, one pair per sample (integral form, no differentiation of x):
 ///   phi_k = dt (x_{k-1} + x_k) / 2,
@@ -14,7 +14,7 @@
 /// y = theta^T phi + (Lambda - 1) u dt instead. A square-wave excitation on the command
 /// (`excitation`) identifies nu = 1 - Lambda per regime (instrumental variables, the excitation
 /// as the instrument); a remembered regime carries its nu into its recall, the fit and
-/// concurrent learning, which then aim at the loop's fixed point (docs/robust.md).
+/// concurrent learning, which then aim at the loop's fixed point (docs/research/robust.md).
 
 #include <cstdint>
 #include <utility>

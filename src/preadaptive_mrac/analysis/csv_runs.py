@@ -85,7 +85,7 @@ def _load_csv(path):
     run.u_source = 'CSV column u'
     if 'u_baseline' in col and 'u_adaptive' in col:
         run.u_bl, run.u_ad = col['u_baseline'], col['u_adaptive']
-    # A run with plant conditions (docs/conditions.md) has these columns, values over
+    # A run with plant conditions (docs/research/conditions.md) has these columns, values over
     # [t, t + dt] like u.
     if 'u_applied' in col:
         run.t_applied, run.u_applied = t, col['u_applied']
