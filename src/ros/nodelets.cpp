@@ -91,8 +91,8 @@ class PlantSimNodelet : public ContextNodelet {
 /// timers, reconfigure) goes to a queue of its own, served by a thread of its own, one at a time
 /// as in a single-threaded process. Not the nodelet's single-threaded queue: the manager hands
 /// each callback of that to a worker through its own manager thread, two thread wake-ups per
-/// message, and the recorder takes four to five messages per lockstep step (docs/reference/ros.md). Here
-/// a message is one push onto the queue, and a thread that is behind takes its backlog in one
+/// message, and the recorder takes four to five messages per lockstep step (docs/reference/ros.md).
+/// Here a message is one push onto the queue, and a thread that is behind takes its backlog in one
 /// go. The lockstep round trip is two threads, the plant's loop and the controller's, which
 /// ~cpu_affinity can put on one CPU.
 template <class Node, std::unique_ptr<Node> (*kMake)(const NodeContext&)>

@@ -32,12 +32,27 @@ class TestDocsLinks(unittest.TestCase):
             with open(doc, encoding='utf-8') as f:
                 text = f.read()
             for target in re.findall(r'\]\(([^)\s]+)\)', text):
-                if re.match(r'[a-z]+:', target) or target.startswith('#'):
-                    continue
-                path = os.path.join(os.path.dirname(doc), target.split('#')[0])
+                if re.match(r'[a-z]+:', target):
+                    continue  # a web address: not checked offline
+                path, _, anchor = target.partition('#')
+                path = os.path.join(os.path.dirname(doc), path) if path else doc
                 if not os.path.exists(path):
                     broken.append('%s -> %s' % (os.path.relpath(doc, ROOT), target))
+                elif anchor and path.endswith('.md') and anchor not in _anchors(path):
+                    broken.append(
+                        '%s -> %s (no such heading)' % (os.path.relpath(doc, ROOT), target)
+                    )
         self.assertEqual(broken, [])
+
+    def test_anchors_follow_github(self):
+        # the slugs test_relative_links_resolve checks links against
+        self.assertEqual(
+            _slug('Runtime tuning (dynamic_reconfigure)'), 'runtime-tuning-dynamic_reconfigure'
+        )
+        self.assertEqual(
+            _slug('pa_robust: report seeds (from research/robust.md, Results)'),
+            'pa_robust-report-seeds-from-researchrobustmd-results',
+        )
 
     def test_specification_is_in_the_repository(self):
         self.assertTrue(os.path.isfile(os.path.join(ROOT, 'docs', 'spec.md')))
@@ -47,6 +62,29 @@ class TestDocsLinks(unittest.TestCase):
                 if 'SPEC.md' in f.read() and not p.endswith('test_docs.py'):
                     naming.append(os.path.relpath(p, ROOT))
         self.assertEqual(naming, [], 'files naming SPEC.md, which is not in the repository')
+
+
+def _slug(heading):
+    """GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens."""
+    text = re.sub(r'[`*]', '', heading.strip().lower())
+    return re.sub(r'[^\w\- ]', '', text).replace(' ', '-')
+
+
+def _anchors(page):
+    """The anchors of a page's headings (a repeated heading gets -1, -2, ...)."""
+    seen, out = {}, set()
+    in_code = False
+    with open(page, encoding='utf-8') as f:
+        for line in f:
+            if line.startswith('```'):
+                in_code = not in_code
+            if in_code or not re.match(r'#{1,6} ', line):
+                continue
+            slug = _slug(line.lstrip('#'))
+            n = seen.get(slug, 0)
+            seen[slug] = n + 1
+            out.add(slug if n == 0 else '%s-%d' % (slug, n))
+    return out
 
 
 def _doc_pages():

@@ -370,7 +370,8 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
       EXPECT_EQ(m.score_keep, 0.0) << "event " << i;
     }
   }
-  if (mode_ == "l1") {  // |e| stays below c_e on scenario 1 (docs/research/l1.md): no crossing at all
+  if (mode_ ==
+      "l1") {  // |e| stays below c_e on scenario 1 (docs/research/l1.md): no crossing at all
     EXPECT_EQ(onsets, 0);
   } else {
     EXPECT_GE(onsets, 1);
