@@ -50,8 +50,8 @@ def main():
         "--delay-steps",
         type=int,
         default=0,
-        help="servo transport delay in samples (docs/conditions.md: the command of step k acts "
-        "from k + D, 0 before); an independent check of preadapt_margins",
+        help="servo transport delay in samples (docs/research/conditions.md: the command of step k "
+        "acts from k + D, 0 before); an independent check of preadapt_margins",
     )
     args = ap.parse_args()
 

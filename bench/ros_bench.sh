@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ROS benchmark (not a test): both shapes (nodelet: one pmrac_manager process; process: one
 # process per node) in one run, interleaved, so that their ratio is measured under the same
-# load. Prints a Markdown table of medians for docs/ros.md and docs/performance.md:
+# load. Prints a Markdown table of medians for docs/reference/ros.md and docs/performance.md:
 #   1. lockstep, scenario 3 (140 s at 1 ms = 140 000 round trips), $MODE, recording on: the
 #      plant's wall time from step 0 to the last step, roslaunch's total, round-trip latency;
 #      the first nodelet bag is checked against the batch CLI (bench/bag_vs_cli.py); then the

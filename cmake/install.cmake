@@ -7,6 +7,10 @@
 # test/ and the development scripts (check_format, test, install_deps, run_demo, the studies,
 # fuzz, junit_wrap, python_files, summarize_tests, slurm/, two_machines_env.sh), which expect
 # a source checkout.
+# So that catkin_lint -W1 on a user's workspace says nothing, its two warnings about them are
+# off for this package; test/scripts/catkin_lint.sh lists each left-out executable with its
+# reason and fails when any other is not installed (catkin_lint --show-ignored).
+#catkin_lint: ignore uninstalled_script uninstalled_target
 
 # Libraries: the exported ones (catkin_package LIBRARIES), the nodes' and nodelets' (the
 # plugin file names lib/libpreadaptive_mrac_nodelets) and the loopback shim (scripts/lib/ros_env).
@@ -18,8 +22,8 @@ install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
 
 # Nodes and the nodelet manager: rosrun / roslaunch find them in lib/preadaptive_mrac.
-install(TARGETS plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node pmrac_manager
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+set(PMRAC_NODES plant_sim_node mrac_controller_node run_monitor_node bag_recorder_node pmrac_manager)
+install(TARGETS ${PMRAC_NODES} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 # Batch tools: catkin's global bin, on PATH once the space is sourced; and for rosrun (which
 # looks in lib/preadaptive_mrac only) a relative link there to each, in the devel space and
@@ -38,6 +42,23 @@ foreach(tool ${PMRAC_BATCH_TOOLS})
   install(PROGRAMS ${CMAKE_CURRENT_BINARY_DIR}/rosrun_links/${tool}
     DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
+
+# rosrun in the README's standalone build (build/ inside the source): rosrun searches the devel
+# space's lib/preadaptive_mrac and the package's source folder, but drops every path under
+# <source>/build/ (`find ... ! -regex ".*$pkgdir/build/.*"`, meant for old rosbuild trees), so it
+# found no compiled executable there. Only in that layout, a link to each in the hidden source
+# folder .rosrun/ (git-ignored): rosrun's find walks hidden folders, roslaunch's find_node
+# (roslib) skips them, so roslaunch never sees two copies. In a catkin workspace (devel outside
+# the source) nothing is made. Tested by test/scripts/tools_on_path.sh.
+string(FIND "${CATKIN_DEVEL_PREFIX}/" "${CMAKE_CURRENT_SOURCE_DIR}/build/" _pmrac_in_source_build)
+if(_pmrac_in_source_build EQUAL 0)
+  file(MAKE_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/.rosrun)
+  foreach(exe ${PMRAC_NODES} ${PMRAC_BATCH_TOOLS})
+    file(RELATIVE_PATH _pmrac_link ${CMAKE_CURRENT_SOURCE_DIR}/.rosrun
+         ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/${exe})
+    file(CREATE_LINK ${_pmrac_link} ${CMAKE_CURRENT_SOURCE_DIR}/.rosrun/${exe} SYMBOLIC)
+  endforeach()
+endif()
 
 # The devel space has no copy of the package's files; the batch tools find config/ there
 # through this link (configDir(): share/preadaptive_mrac/config beside the executable's prefix).
@@ -62,7 +83,7 @@ install(DIRECTORY jsbsim DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION} PATTERN
 catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers scripts/live_plot
                                scripts/reindex_bags
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-# roslaunch that exits non-zero when a node died (docs/ros.md), with the environment it sources.
+# roslaunch that exits non-zero when a node died (docs/reference/ros.md), with the environment it sources.
 install(PROGRAMS scripts/lib/launch_checked DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(FILES scripts/lib/ros_env DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # The launch-prefix compare.launch's pairs name their parent namespace's manager, recorder

@@ -20,7 +20,7 @@ if(CATKIN_ENABLE_TESTING)
 
   # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle
-  # yardstick (like pa_learn_exact, it needs plant/truth), and l1 (docs/l1.md).
+  # yardstick (like pa_learn_exact, it needs plant/truth), and l1 (docs/research/l1.md).
   add_executable(test_ros_lockstep test/ros/lockstep_equivalence_test.cpp)
   target_link_libraries(test_ros_lockstep preadaptive_mrac_ros ${GTEST_LIBRARIES} yaml-cpp)
   target_include_directories(test_ros_lockstep SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})

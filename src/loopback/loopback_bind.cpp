@@ -6,7 +6,7 @@
 /// ROS_IP / ROS_HOSTNAME say, so every C++ node would otherwise listen on every address and
 /// anyone reaching it could, e.g., call publisherUpdate and feed it a publisher of their own.
 /// scripts/lib/ros_env preloads this only for single-machine runs (ROS_IP / ROS_HOSTNAME on
-/// loopback); binds to a named address are left alone. docs/ros.md "Network exposure".
+/// loopback); binds to a named address are left alone. docs/reference/ros.md "Network exposure".
 
 #include <dlfcn.h>
 #include <netinet/in.h>

@@ -1,7 +1,7 @@
 /// \file preadapt_family.cpp
 /// \brief Families of random recurring-regime scenarios: write them, run rac and the chosen
 /// modes on each (same plant noise), and report each mode against rac (docs/spec.md "Beyond the
-/// paper"; docs/robust.md).
+/// paper"; docs/research/robust.md).
 
 #include <sys/stat.h>
 
@@ -31,7 +31,8 @@ const char* kAbout =
     "halved (<= 0.5), the median and worst ratio; per scenario the worst IAE ratio and max|u| "
     "ratio to rac and to the oracle. --out-dir writes scenario_K.yaml and runs.jsonl (one "
     "preadapt_sim --json line per run). --delay, --time-constant, --effectiveness and "
-    "--turbulence run every mode under those plant conditions (docs/conditions.md); each takes "
+    "--turbulence run every mode under those plant conditions (docs/research/conditions.md); each "
+    "takes "
     "one value or a range LO:HI, drawn uniformly per scenario from the family seed (the same "
     "for every mode; --effectiveness LO:HI draws one Lambda per regime, the first segment 1), "
     "reported in runs.jsonl as drawn_conditions. --mismatch M runs every scenario on a true plant "

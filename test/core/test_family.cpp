@@ -1,4 +1,4 @@
-// The recurring-regime scenario family and its report (docs/robust.md).
+// The recurring-regime scenario family and its report (docs/research/robust.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The L1 adaptive law (docs/l1.md): its parameter table, each part (filter, predictor,
+// The L1 adaptive law (docs/research/l1.md): its parameter table, each part (filter, predictor,
 // adaptation, projection) against a hand calculation, and the closed loop on scenario 1.
 #include <gtest/gtest.h>
 
@@ -224,7 +224,7 @@ TEST(L1Law, WideFilterGivesTheUnfilteredAdaptiveTerm) {
 TEST(L1Design, NormOfGMatchesAnIndependentComputationAndShrinksWithTheBandwidth) {
   // Reference values: the impulse response of G through scipy.linalg.expm at 0.1 ms steps,
   // trapezoids over 60 s
-  // (docs/l1.md, "Choosing omega"), row 2 (q) the largest.
+  // (docs/research/l1.md, "Choosing omega"), row 2 (q) the largest.
   Parts p;
   const std::pair<double, double> ref[] = {{20.0, 0.121754}, {50.0, 0.0535525}, {200.0, 0.0143325}};
   for (const auto& [w, g] : ref) EXPECT_NEAR(l1NormOfG(p.design.Ar, p.B, w), g, 5e-4 * g);

@@ -1,5 +1,5 @@
-// pa_robust (docs/robust.md): verification rejects bad candidates, noise-only triggers move
-// nothing, the memory stays bounded, remembered regimes survive a save and load, projection
+// pa_robust (docs/research/robust.md): verification rejects bad candidates, noise-only triggers
+// move nothing, the memory stays bounded, remembered regimes survive a save and load, projection
 // holds, and the controller.robust keys are optional one by one.
 #include <gtest/gtest.h>
 #include <unistd.h>

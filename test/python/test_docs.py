@@ -1,8 +1,9 @@
-"""What a new user reads first is complete and points at files that exist (issue 24):
-- every relative link of README.md and docs/*.md resolves, and no source, config or doc file
+"""What a new user reads first is complete and points at files that exist (issues 24 and 33):
+- every relative link of README.md and docs/**/*.md resolves, and no source, config or doc file
   names SPEC.md (not in the repository; the specification is docs/spec.md);
-- the README's launch-argument table lists every mode closed_loop.launch takes, its topic table
-  every topic compare.launch records, and its attention row every field of AttentionEvent."""
+- the ROS reference's launch-argument table (docs/reference/ros.md) lists every mode
+  closed_loop.launch takes, its topic table every topic compare.launch records, and its attention
+  row every field of AttentionEvent; the README's table of modes lists every mode."""
 
 import os
 import re
@@ -25,23 +26,33 @@ def _text_files():
 
 class TestDocsLinks(unittest.TestCase):
     def test_relative_links_resolve(self):
-        docs = [os.path.join(ROOT, 'README.md')]
-        docs += [
-            os.path.join(ROOT, 'docs', f)
-            for f in sorted(os.listdir(os.path.join(ROOT, 'docs')))
-            if f.endswith('.md')
-        ]
+        docs = [os.path.join(ROOT, 'README.md')] + _doc_pages()
         broken = []
         for doc in docs:
             with open(doc, encoding='utf-8') as f:
                 text = f.read()
             for target in re.findall(r'\]\(([^)\s]+)\)', text):
-                if re.match(r'[a-z]+:', target) or target.startswith('#'):
-                    continue
-                path = os.path.join(os.path.dirname(doc), target.split('#')[0])
+                if re.match(r'[a-z]+:', target):
+                    continue  # a web address: not checked offline
+                path, _, anchor = target.partition('#')
+                path = os.path.join(os.path.dirname(doc), path) if path else doc
                 if not os.path.exists(path):
                     broken.append('%s -> %s' % (os.path.relpath(doc, ROOT), target))
+                elif anchor and path.endswith('.md') and anchor not in _anchors(path):
+                    broken.append(
+                        '%s -> %s (no such heading)' % (os.path.relpath(doc, ROOT), target)
+                    )
         self.assertEqual(broken, [])
+
+    def test_anchors_follow_github(self):
+        # the slugs test_relative_links_resolve checks links against
+        self.assertEqual(
+            _slug('Runtime tuning (dynamic_reconfigure)'), 'runtime-tuning-dynamic_reconfigure'
+        )
+        self.assertEqual(
+            _slug('pa_robust: report seeds (from research/robust.md, Results)'),
+            'pa_robust-report-seeds-from-researchrobustmd-results',
+        )
 
     def test_specification_is_in_the_repository(self):
         self.assertTrue(os.path.isfile(os.path.join(ROOT, 'docs', 'spec.md')))
@@ -53,15 +64,51 @@ class TestDocsLinks(unittest.TestCase):
         self.assertEqual(naming, [], 'files naming SPEC.md, which is not in the repository')
 
 
+def _slug(heading):
+    """GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens."""
+    text = re.sub(r'[`*]', '', heading.strip().lower())
+    return re.sub(r'[^\w\- ]', '', text).replace(' ', '-')
+
+
+def _anchors(page):
+    """The anchors of a page's headings (a repeated heading gets -1, -2, ...)."""
+    seen, out = {}, set()
+    in_code = False
+    with open(page, encoding='utf-8') as f:
+        for line in f:
+            if line.startswith('```'):
+                in_code = not in_code
+            if in_code or not re.match(r'#{1,6} ', line):
+                continue
+            slug = _slug(line.lstrip('#'))
+            n = seen.get(slug, 0)
+            seen[slug] = n + 1
+            out.add(slug if n == 0 else '%s-%d' % (slug, n))
+    return out
+
+
+def _doc_pages():
+    """Every page under docs/, sorted."""
+    pages = []
+    for d, dirs, files in os.walk(os.path.join(ROOT, 'docs')):
+        pages += [os.path.join(d, f) for f in files if f.endswith('.md')]
+    return sorted(pages)
+
+
 def _readme():
     with open(os.path.join(ROOT, 'README.md'), encoding='utf-8') as f:
+        return f.read()
+
+
+def _ros_md():
+    with open(os.path.join(ROOT, 'docs', 'reference', 'ros.md'), encoding='utf-8') as f:
         return f.read()
 
 
 def _row(text, first_cell):
     rows = [ln for ln in text.splitlines() if ln.startswith('| %s |' % first_cell)]
     if not rows:
-        raise AssertionError('README.md: no table row for %s' % first_cell)
+        raise AssertionError('no table row for %s' % first_cell)
     return rows[0]
 
 
@@ -70,19 +117,19 @@ class TestReadmeTables(unittest.TestCase):
         # the launch files' `mode` docs point to the table; the docs' rows list its modes
         from preadaptive_mrac import modes as modes_table
 
-        with open(os.path.join(ROOT, 'docs', 'ros.md'), encoding='utf-8') as f:
-            ros_md = f.read()
-        for name, text in (('README.md', _readme()), ('docs/ros.md', ros_md)):
-            row = _row(text, '`mode`')
-            cells = re.findall(r'[a-z0-9_]+', row.split('|')[3])
-            self.assertEqual([m for m in modes_table.MODES if m not in cells], [], name + row)
+        row = _row(_ros_md(), '`mode`')
+        cells = re.findall(r'[a-z0-9_]+', row.split('|')[3])
+        self.assertEqual([m for m in modes_table.MODES if m not in cells], [], row)
+        # the README's table of modes: one row a mode, its first cell the mode's name
+        readme_modes = re.findall(r'^\| `([a-z0-9_]+)` \|', _readme(), re.M)
+        self.assertEqual([m for m in modes_table.MODES if m not in readme_modes], [], 'README.md')
 
     def test_topic_table_lists_every_recorded_topic(self):
         with open(os.path.join(ROOT, 'launch', 'compare.launch'), encoding='utf-8') as f:
             block = re.search(r'<rosparam param="topics">\[([^\]]*)\]', f.read()).group(1)
         # The pairs' topics, relative (rac/plant/state) since compare.launch runs in a namespace.
         topics = {re.sub(r'^/?(rac|pa)/', '', t.strip()) for t in block.split(',')}
-        text = _readme()
+        text = _ros_md()
         # A global name may be listed relative (`tf`: the namespace's own in a namespace).
         missing = [
             t for t in sorted(topics) if not any('| `%s` |' % n in text for n in (t, t.lstrip('/')))
@@ -96,7 +143,7 @@ class TestReadmeTables(unittest.TestCase):
                 parts = line.split('#')[0].split()
                 if len(parts) == 2 and '=' not in parts[1] and parts[1] != 'header':
                     fields.append(parts[1])
-        row = _row(_readme(), '`controller/attention`')
+        row = _row(_ros_md(), '`controller/attention`')
         self.assertIn('decision_code', fields)
         self.assertEqual([x for x in fields if '`%s`' % x not in row], [], row)
 

@@ -12,7 +12,7 @@
 ///   CLI's, and events without a decision carry the message defaults;
 /// - onsets and recoveries appear (oracle: onsets only, it has no phases to recover from;
 ///   pa_robust: DECISION events too; l1: none, its |e| stays below c_e on scenario 1,
-///   docs/l1.md), and per-window peaks of |e| equal the CLI's;
+///   docs/research/l1.md), and per-window peaks of |e| equal the CLI's;
 /// - in learning modes, ~weights_out holds the episodes of the last event.
 
 #include <gtest/gtest.h>
@@ -418,7 +418,8 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
       EXPECT_EQ(m.score_keep, 0.0) << "event " << i;
     }
   }
-  if (mode_ == "l1") {  // |e| stays below c_e on scenario 1 (docs/l1.md): no crossing at all
+  if (mode_ ==
+      "l1") {  // |e| stays below c_e on scenario 1 (docs/research/l1.md): no crossing at all
     EXPECT_EQ(onsets, 0);
   } else {
     EXPECT_GE(onsets, 1);

@@ -19,7 +19,7 @@ trap 'rm -rf "$W"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
 
 # rac's delay margin at the default gamma: 1139 samples hold the bound, 1140 do not
-# (docs/conditions.md); bisection to 4 ms brackets it in [1.136, 1.140] s.
+# (docs/research/conditions.md); bisection to 4 ms brackets it in [1.136, 1.140] s.
 "$BIN/preadapt_margins" --scenario 1 --mode rac >"$W/rac.json" || bad "preadapt_margins exited $?"
 /usr/bin/python3 - "$W/rac.json" <<'PY' && ok "rac margins: delay bracket [1.136, 1.140] s" || bad "rac margins: $(cat "$W/rac.json")"
 import json, sys

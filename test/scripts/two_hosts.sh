@@ -136,7 +136,7 @@ if ip netns exec "$A" tc qdisc add dev "$VA" root netem delay 2ms 2>"$WORK/netem
 else
   echo "delayed link: not run, tc netem refused here ($(head -1 "$WORK/netem.err"))"
 fi
-# 4. both halves in a namespace of a user's launch file (what docs/ros.md, "Namespaces", says
+# 4. both halves in a namespace of a user's launch file (what docs/reference/ros.md, "Namespaces", says
 # two_machines.launch allows on both machines alike).
 echo "== lockstep short scenario, both halves included in <group ns=\"tm\">"
 SHORT=$ROOT/test/ros/config/short_scenario.yaml

@@ -7,7 +7,7 @@
 /// A guard against a stray or misconfigured node (a second plant or a test publisher left
 /// running, a remapping gone wrong), NOT a defence against an attacker: a ROS 1 caller id is
 /// whatever the publishing node says it is, so anyone who reaches the master can claim the
-/// expected name (docs/ros.md, "Network exposure").
+/// expected name (docs/reference/ros.md, "Network exposure").
 ///
 /// ROS-free (no ROS headers), so the matching is tested without a master; the nodes pass each
 /// ros::MessageEvent to admit().

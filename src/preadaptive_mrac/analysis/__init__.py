@@ -7,7 +7,7 @@ JSON, CSV), figure_style, figures (one run) and figures_compare (several runs), 
 (analyze()). Every public name (and the few private helpers the tests use) is re-exported
 here, so `from preadaptive_mrac import analysis` gives the whole API. Needs
 /usr/bin/python3 with Debian's python3-rosbag for bags (not for CSV files), numpy and
-matplotlib. See docs/analysis.md.
+matplotlib. See docs/reference/analysis.md.
 """
 
 from .runs import (  # noqa: F401

@@ -231,7 +231,7 @@ def plot_condition(plt, run, m, name, path, xlim=None):
 
 
 def plot_gust(plt, run, m, path, xlim=None):
-    """The Dryden vertical gust of a run with turbulence (docs/conditions.md)."""
+    """The Dryden vertical gust of a run with turbulence (docs/research/conditions.md)."""
     fig, ax = plt.subplots(figsize=(11, 3.8))
     ax.plot(run.t_gust, run.gust_w, color='tab:green', lw=0.9, label='$w_g$')
     _switch_lines(ax, m)

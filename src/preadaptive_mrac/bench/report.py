@@ -413,7 +413,7 @@ def sections(text):
 
 def kept_sections(old_text):
     """The sections of an existing page that render() does not write (written by hand, e.g.
-    the ROS benchmark copied from docs/ros.md): they are carried over unchanged."""
+    the ROS benchmark copied from docs/reference/ros.md): they are carried over unchanged."""
     kept = []
     for heading, body in sections(old_text):
         if heading is None or any(heading.startswith(g) for g in GENERATED):

@@ -3,7 +3,7 @@ scenarios with a Lambda per regime, every mode against rac on the same plant and
 
 preadapt_family holds Lambda constant over a scenario; here each distinct theta of a scenario
 (a regime) gets its own Lambda, drawn uniformly in [lo, hi] from a seed of its own, the first
-segment (theta = 0.1 ones) Lambda 1. The metrics are docs/robust.md's: per repeated-switch
+segment (theta = 0.1 ones) Lambda 1. The metrics are docs/research/robust.md's: per repeated-switch
 window the peak |e| ratio to rac; per scenario the IAE ratio; the largest peak |e| of any run.
 """
 

@@ -1,5 +1,5 @@
 """How much each mode reacts to a switch back into a known regime, against the error it was
-already carrying (docs/robust.md, Limits (e)).
+already carrying (docs/notebook.md, "pa_robust: Lambda per regime", (e)).
 
 A family's repeated-switch windows rate a mode by its peak |e| in the window over rac's. This
 study re-runs a family's scenarios (a `preadapt_family --out-dir D`: its runs.jsonl and scenario

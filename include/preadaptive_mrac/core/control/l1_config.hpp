@@ -12,7 +12,7 @@ namespace preadaptive_mrac {
 
 class ParamReader;
 
-/// \brief Parameters of the L1 law (optional section `controller.l1`; docs/l1.md).
+/// \brief Parameters of the L1 law (optional section `controller.l1`; docs/research/l1.md).
 struct L1Config : L1Params {
   /// \brief Read the section at `prefix` (`controller.l1`); every key optional, an absent one
   /// keeps its declared default (params/l1.yaml) and is noted. Problems go to the reader.

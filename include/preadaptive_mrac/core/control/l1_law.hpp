@@ -1,6 +1,6 @@
 #pragma once
 /// \file l1_law.hpp
-/// \brief L1 adaptive control of the matched uncertainty theta^T x (docs/l1.md): a state
+/// \brief L1 adaptive control of the matched uncertainty theta^T x (docs/research/l1.md): a state
 /// predictor with the reference model's dynamics, the projection-based fast adaptation law of
 /// Cao and Hovakimyan, and a low-pass filter C(s) = omega / (s + omega) on the adaptive term.
 ///
@@ -61,8 +61,8 @@ double l1NormOfG(const Eigen::MatrixXd& Ar, const Eigen::VectorXd& B, double ome
 ///     adaptation  theta_hat_dot = Gamma Proj(theta_hat, -x (xt^T P B)),  xt = xh - x
 ///     control     u_ad      = C(s) [-theta_hat^T x + k0 r]
 ///
-/// Per sample t_k (docs/l1.md, "Discretisation"): command() gives u_ad,k from x_k; advance()
-/// then moves the filter, the predictor (RK4 with its input held, the reference model's
+/// Per sample t_k (docs/research/l1.md, "Discretisation"): command() gives u_ad,k from x_k;
+/// advance() then moves the filter, the predictor (RK4 with its input held, the reference model's
 /// discretisation) and theta_hat (forward Euler, projected, clamped to Omega) to t_{k+1}.
 /// Allocation-free after construction.
 class L1Law : public AdaptiveLaw {

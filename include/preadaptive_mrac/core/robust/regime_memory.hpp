@@ -1,7 +1,7 @@
 #pragma once
 /// \file regime_memory.hpp
 /// \brief A bounded memory of the regimes (theta estimates) a plant has been in: what the
-/// robust preadaptation recalls when the plant switches back (docs/robust.md).
+/// robust preadaptation recalls when the plant switches back (docs/research/robust.md).
 
 #include <cstdint>
 #include <vector>

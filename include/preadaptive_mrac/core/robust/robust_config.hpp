@@ -12,7 +12,7 @@ namespace preadaptive_mrac {
 
 class ParamReader;
 
-/// \brief Parameters of pa_robust (key `controller.robust`; docs/robust.md).
+/// \brief Parameters of pa_robust (key `controller.robust`; docs/research/robust.md).
 struct RobustConfig : RobustParams {
   /// \brief Read the optional section at `prefix`: absent, every default; each key optional.
   static RobustConfig read(ParamReader& r, const std::string& prefix);

@@ -2,7 +2,7 @@
 /// \file robust_preadaptation.hpp
 /// \brief `pa_robust`: preadaptation that detects a switch from the identification residual,
 /// predicts theta from a bounded memory of regimes (and the network), and verifies every
-/// candidate against the measured data before it moves theta_hat (docs/robust.md).
+/// candidate against the measured data before it moves theta_hat (docs/research/robust.md).
 ///
 /// Identification data, one pair per sample (integral form, no differentiation of x):
 ///   phi_k = dt (x_{k-1} + x_k) / 2,

@@ -1,0 +1,128 @@
+"""The shell commands of the README's quick start and of the tutorials, as one bash script per
+page, for test/scripts/docs_commands.sh (issue 33, item 4).
+
+    doc_commands.py PAGE BUILD    # prints the script; each left-out command as a comment with
+                                  # its reason, and "# SKIPPED: <reason>" lines on stderr
+
+A command is a line of a ```sh block (a trailing backslash joins the next line; a heredoc runs
+to its end marker). The commands SKIPS matches are left out, each with its reason; every other
+command runs, in page order, in one bash session that starts at the repository root.
+"""
+
+import re
+import shlex
+import sys
+
+# Left out, with the reason: (pattern on the command, reason). A pattern matching a command
+# that no longer appears in any page is itself an error (docs_commands.sh checks it).
+SKIPS = [
+    (
+        r'^scripts/run_demo\b',
+        'the whole demo (1-4 min): test/scripts/run_demo_keeps_outputs.sh runs it',
+    ),
+    (r'^scripts/test\b', 'the whole test suite, which runs this test'),
+    (r'^scripts/install_deps\b', 'apt-get as root: scripts/test and scripts/run_demo run it'),
+    (
+        r'^(mkdir -p ~/catkin_ws|git clone|rosdep install|catkin_make|source devel/setup.bash)',
+        'a catkin workspace from a clone: test/scripts/catkin_workspace.sh builds one',
+    ),
+    (
+        r'clock:=realtime',
+        'a realtime run (60 s) with windows or waiting for Ctrl-C; rviz, live_plot and realtime '
+        'runs: test/viz/rviz_screenshot_test.sh, test/scripts/live_plot.sh, '
+        'test/ros/realtime*.test',
+    ),
+    (
+        r'^rosrun preadaptive_mrac live_plot\b',
+        'a window that runs until closed: test/scripts/live_plot.sh',
+    ),
+    (
+        r'^rosrun dynamic_reconfigure dynparam\b',
+        'needs the realtime run above, left out: test/ros/reconfigure.test changes parameters of a '
+        'running controller',
+    ),
+    (r'~/tuning/', 'reads the bag of the realtime run above, left out'),
+]
+
+
+def blocks(text):
+    """The ```sh blocks of a page: [(first line number, [lines])]."""
+    out, cur, start = [], None, 0
+    for n, line in enumerate(text.splitlines(), 1):
+        if cur is None and line.strip() == '```sh':
+            cur, start = [], n + 1
+        elif cur is not None and line.strip() == '```':
+            out.append((start, cur))
+            cur = None
+        elif cur is not None:
+            cur.append(line)
+    return out
+
+
+def commands(lines):
+    """Lines joined into commands: backslash continuations, heredocs to their end marker."""
+    out, i = [], 0
+    while i < len(lines):
+        cmd = lines[i]
+        i += 1
+        while cmd.endswith('\\') and i < len(lines):
+            cmd += '\n' + lines[i]
+            i += 1
+        m = re.search(r"<<-?\s*'?(\w+)'?", cmd)
+        if m:
+            while i < len(lines):
+                cmd += '\n' + lines[i]
+                i += 1
+                if lines[i - 1].strip() == m.group(1):
+                    break
+        if cmd.strip() and not cmd.lstrip().startswith('#'):
+            out.append(cmd)
+    return out
+
+
+def skip_reason(cmd):
+    for pattern, reason in SKIPS:
+        if re.search(pattern, cmd):
+            return pattern, reason
+    return None, None
+
+
+def script(page, build):
+    """The bash script of a page and the skip patterns it used."""
+    with open(page, encoding='utf-8') as f:
+        text = f.read()
+    used = set()
+    out = ['set -eE -o pipefail', 'trap \'echo "FAILED: $BASH_COMMAND" >&2\' ERR']
+    for start, lines in blocks(text):
+        for cmd in commands(lines):
+            pattern, reason = skip_reason(cmd)
+            first = cmd.splitlines()[0]
+            if reason:
+                used.add(pattern)
+                sys.stderr.write('# SKIPPED: %s:%d: %s -- %s\n' % (page, start, first, reason))
+                out.append('# skipped (%s): %s' % (reason, first))
+                continue
+            # the README's build folder is the test's (PMRAC_BUILD_DIR)
+            cmd = cmd.replace('source build/devel/setup.bash', 'source %s/devel/setup.bash' % build)
+            out.append('echo %s' % shlex.quote('+ %s:%d: %s' % (page, start, first)))
+            out.append(cmd)
+    return '\n'.join(out) + '\n', used
+
+
+def main():
+    if sys.argv[1] == '--patterns':
+        # every skip pattern, one a line (docs_commands.sh checks each is still used)
+        print('\n'.join(p for p, _ in SKIPS))
+        return
+    if sys.argv[1] == '--used':
+        # the skip patterns the given pages use
+        used = set()
+        for page in sys.argv[2:]:
+            used |= script(page, 'build')[1]
+        print('\n'.join(sorted(used)))
+        return
+    sys.stdout.write(script(sys.argv[1], sys.argv[2])[0])
+
+
+if __name__ == '__main__':
+    main()
