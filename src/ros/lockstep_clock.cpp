@@ -138,7 +138,7 @@ int LockstepClock::run() {
   if (!n.waitForSubscribers()) return kExitRuntimeError;
   // ~cpu_affinity (not ~rt_priority: lockstep has no deadlines): with the controller's thread
   // pinned to the same CPU each hand-off of the round trip is a switch on that CPU, not a
-  // wake-up of another (docs/ros.md).
+  // wake-up of another (docs/reference/ros.md).
   n.schedule(0, false);
   n.wall_start_ = wallNow();
   rosgraph_msgs::Clock clock_msg;

@@ -1,7 +1,7 @@
 #pragma once
 /// \file inline_queue.hpp
 /// \brief A callback queue whose callbacks run in the thread that queues them, when they can:
-/// a node on it answers a message without a thread wake-up (docs/ros.md, "Threads").
+/// a node on it answers a message without a thread wake-up (docs/reference/ros.md, "Threads").
 
 #include <ros/callback_queue.h>
 #include <ros/callback_queue_interface.h>

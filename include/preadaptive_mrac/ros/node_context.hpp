@@ -114,7 +114,7 @@ bool readNodeParams(const NodeContext& ctx, Reader read, Params* out) {
 /// `make` (nullptr when it refused to start), spin until its run ends or shutdown, then
 /// finish() it (save, close, report). Returns the process's exit code. With `inline_messages`
 /// its callbacks go to an InlineCallbackQueue: a message's callback runs in roscpp's receiving
-/// thread, without waking this one (the controller: docs/ros.md, "Threads").
+/// thread, without waking this one (the controller: docs/reference/ros.md, "Threads").
 template <class Node>
 int spinProcessNode(std::unique_ptr<Node> (*make)(const NodeContext&),
                     bool inline_messages = false) {

@@ -94,8 +94,8 @@ def _load_csv(path):
     run.u_source = 'CSV column u'
     if 'u_baseline' in col and 'u_adaptive' in col:
         run.u_bl, run.u_ad = col['u_baseline'], col['u_adaptive']
-    # A run with plant conditions (docs/conditions.md) has one column per row of the plant's
-    # conditions table (core/sim/plant_conditions.hpp) besides the fixed ones, values over
+    # A run with plant conditions (docs/research/conditions.md) has one column per row of the
+    # plant's conditions table (core/sim/plant_conditions.hpp) besides the fixed ones, values over
     # [t, t + dt] like u.
     for h in header:
         if not _FIXED_COLUMN.match(h):

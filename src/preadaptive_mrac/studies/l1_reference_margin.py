@@ -1,5 +1,5 @@
 """Time-delay margin of the L1 reference system, and of the loop fast L1 adaptation actually
-tends to (docs/l1.md, "Time-delay margin and the reference system").
+tends to (docs/research/l1.md, "Time-delay margin and the reference system").
 
 The plant is x_dot = A x + B (u(t - tau) + theta^T x) + B1r r, the controller u = -K x + u_ad
 (src/core/l1_law.cpp, k0 = 0). Three loops, each broken at the plant input (where

@@ -31,7 +31,7 @@ struct DesignModel {
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig : ControllerParams {
   RobustConfig robust;  ///< pa_robust (optional section `controller.robust`)
-  L1Config l1;          ///< mode l1 (optional section `controller.l1`; docs/l1.md)
+  L1Config l1;          ///< mode l1 (optional section `controller.l1`; docs/research/l1.md)
   DesignModel model;    ///< what the controller designs on (optional `controller.model`)
 
   /// \brief The plant as the controller knows it: `plant` with A, B and B1r replaced by those

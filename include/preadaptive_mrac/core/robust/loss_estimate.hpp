@@ -1,7 +1,7 @@
 #pragma once
 /// \file loss_estimate.hpp
 /// \brief pa_robust's estimate of the loss of elevator effectiveness nu = 1 - Lambda over a
-/// regime (robust_preadaptation.hpp, docs/robust.md): instrumental variables on blocks of
+/// regime (robust_preadaptation.hpp, docs/research/robust.md): instrumental variables on blocks of
 /// samples between flips of the square-wave excitation.
 ///
 /// With the plant applying Lambda u the data reads y = c^T phi + nu v (v = -u dt - K^T phi).

@@ -14,7 +14,7 @@
 /// y = theta^T phi + (Lambda - 1) u dt instead. A square-wave excitation on the command
 /// (`excitation`) identifies nu = 1 - Lambda per regime (instrumental variables, the excitation
 /// as the instrument, loss_estimate.hpp); a remembered regime carries its nu into its recall, the
-/// fit and concurrent learning, which then aim at the loop's fixed point (docs/robust.md).
+/// fit and concurrent learning, which then aim at the loop's fixed point (docs/research/robust.md).
 ///
 /// The parts: the data (identification_window.hpp, chunk_sums.hpp), the loss estimate
 /// (loss_estimate.hpp), the remembered regimes (regime_memory.hpp) and the decision
