@@ -366,7 +366,9 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
         ++seen;
       }
     }
-    if (from < rec.total) EXPECT_GT(seen, 0u) << "no truth after the envelope exit";
+    if (from < rec.total) {
+      EXPECT_GT(seen, 0u) << "no truth after the envelope exit";
+    }
     std::printf("[lockstep %s] envelope exit: %s\n", mode_.c_str(),
                 from < rec.total ? ex["text"].as<std::string>().c_str() : "none");
   }
