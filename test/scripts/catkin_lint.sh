@@ -30,7 +30,7 @@ DEV_SCRIPTS="bench/bag_vs_cli.py bench/perf_report.py bench/prototype_rac.py ben
 bench/run_bench.sh scripts/check_format scripts/config_mutation_study scripts/fuzz
 scripts/install_deps scripts/junit_wrap scripts/noise_study scripts/python_files
 scripts/reproduction_study scripts/robust_study scripts/regime_effectiveness_study
-scripts/switch_reaction_study scripts/l1_reference_margin_study
+scripts/switch_reaction_study scripts/l1_reference_margin_study scripts/core_includes
 scripts/check_baseline_identical scripts/run_demo scripts/slurm/submit_sweep
 scripts/slurm/sweep_array.sbatch scripts/two_machines_env.sh scripts/test scripts/summarize_tests
 scripts/install_jsbsim jsbsim/tools/jsbsim_probe.py"

@@ -8,18 +8,25 @@ set -uo pipefail
 TEST_NAME=jsbsim_aircraft
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 FAIL=0
-before=$(pgrep -x JSBSim | sort)
+# This run's JSBSim processes carry a mark in their environment (inherited from the probe), so
+# JSBSim processes of other runs on the machine do not count.
+MARK="jsbsim_aircraft_$$_$(date +%s%N)"
+ours() {
+  local p
+  for p in $(pgrep -x JSBSim); do
+    tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qxF "PMRAC_TEST_MARK=$MARK" && echo "$p"
+  done
+}
 if ! bin=$("$ROOT/scripts/install_jsbsim" | tail -n1) || [ ! -x "$bin" ]; then
   echo "FAIL: scripts/install_jsbsim did not give a JSBSim binary"
   echo "$TEST_NAME: FAILED"
   exit 1
 fi
-if ! PMRAC_JSBSIM=$bin /usr/bin/python3 "$ROOT/jsbsim/tools/jsbsim_probe.py" linearise --duration 3 --check; then
+if ! PMRAC_TEST_MARK=$MARK PMRAC_JSBSIM=$bin /usr/bin/python3 "$ROOT/jsbsim/tools/jsbsim_probe.py" linearise --duration 3 --check; then
   echo "FAIL: trim or linearisation of b747_pmrac"
   FAIL=1
 fi
-after=$(pgrep -x JSBSim | sort)
-left=$(comm -13 <(echo "$before") <(echo "$after"))
+left=$(ours)
 if [ -n "$left" ]; then
   echo "FAIL: JSBSim processes left behind: $left"
   FAIL=1
