@@ -28,9 +28,9 @@ done
 # (build/ inside the source, whose paths rosrun drops: cmake/install.cmake links them into
 # .rosrun/), each at exactly one place (two would make rosrun ask which), and roslaunch's
 # find_node still finds the nodes once. The executables: those of the devel space's
-# lib/preadaptive_mrac but the tests and the benchmarks, and launch_checked.
+# lib/preadaptive_mrac but the tests and the benchmarks (bench_*, wakeup_floor), and launch_checked.
 exes=$(find -L "$BUILD/devel/lib/preadaptive_mrac" -maxdepth 1 -type f -perm /111 -printf '%f\n' |
-  grep -v -e '^test_' -e '^bench_controller$' -e '^wakeup_floor$' | sort)
+  grep -v -e '^test_' -e '^bench_controller$' -e '^wakeup_floor$' -e '^bench_jsbsim$' | sort)
 n=0
 for exe in $exes launch_checked; do
   found=$(cd / && rosrun --prefix echo preadaptive_mrac "$exe" </dev/null 2>&1)
