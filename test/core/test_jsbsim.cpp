@@ -134,7 +134,9 @@ TEST(Jsbsim, PhysicalFaultsActFromTheirSegment) {
     const double u = k < 500 ? 0.0 : 0.01;
     a.advance(u);
     b.advance(u);
-    if (k == 499) ASSERT_EQ(a.state()[2], b.state()[2]);
+    if (k == 499) {
+      ASSERT_EQ(a.state()[2], b.state()[2]);
+    }
   }
   // The fault halves the whole deflection, the trim's included: the moment changes by
   // 0.5 (u + de_trim) - de_trim against u.

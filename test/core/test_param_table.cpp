@@ -86,9 +86,11 @@ TEST(ParamTable, KeysLeftOutTakeTheTablesDefaults) {
     ++checked;
   }
   EXPECT_GE(checked, 27);
-  for (const ParamValue& row : rows())
-    if (field(row, "key") == "adaptation.freeze_when_saturated")
+  for (const ParamValue& row : rows()) {
+    if (field(row, "key") == "adaptation.freeze_when_saturated") {
       EXPECT_EQ(c.freeze_when_saturated, row.find("default")->asBool());
+    }
+  }
 }
 
 TEST(ParamTable, TunablesDefaultAndKeysAreTheTables) {
