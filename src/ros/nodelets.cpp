@@ -92,8 +92,8 @@ class PlantSimNodelet : public ContextNodelet {
 /// timers, reconfigure) goes to a queue of its own, served by a thread of its own, one at a time
 /// as in a single-threaded process. Not the nodelet's single-threaded queue: the manager hands
 /// each callback of that to a worker through its own manager thread, two thread wake-ups per
-/// message, and the recorder takes four to five messages per lockstep step (docs/reference/ros.md). Here
-/// a message is one push onto the queue, and a thread that is behind takes its backlog in one
+/// message, and the recorder takes four to five messages per lockstep step (docs/reference/ros.md).
+/// Here a message is one push onto the queue, and a thread that is behind takes its backlog in one
 /// go. The controller's queue (Queue = InlineCallbackQueue) runs a message's callback in the
 /// publisher's thread when it is free: the lockstep round trip is the plant's loop alone, with
 /// no thread wake-up; its thread serves only timers, services and a backlog.

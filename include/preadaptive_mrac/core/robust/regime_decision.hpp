@@ -1,7 +1,7 @@
 #pragma once
 /// \file regime_decision.hpp
-/// \brief pa_robust's decision (robust_preadaptation.hpp, docs/research/robust.md) as a pure function:
-/// from the post-change data's sums and the candidates (keep the pre-switch estimate, the
+/// \brief pa_robust's decision (robust_preadaptation.hpp, docs/research/robust.md) as a pure
+/// function: from the post-change data's sums and the candidates (keep the pre-switch estimate, the
 /// remembered regimes, the network's prediction) to the estimate to set. No state: a decision
 /// seen in a run can be replayed from its numbers (test_robust).
 
@@ -50,7 +50,8 @@ struct DecisionResult {
 };
 
 /// \brief Score every candidate on the data, take the best that beats keeping beyond noise,
-/// fit what the data determines around it, and limit the move along the data (docs/research/robust.md).
+/// fit what the data determines around it, and limit the move along the data
+/// (docs/research/robust.md).
 DecisionResult decideRegime(const DecisionData& data, const DecisionCandidates& cand,
                             const DecisionSettings& s);
 
