@@ -256,6 +256,9 @@ void PlantSimNode::advance(double u) {
     envelope_logged_ = true;
     ROS_ERROR("plant_sim: left the flight envelope at %s%s", sim_.envelopeExit().describe().c_str(),
               sim_.nonFinite() ? "; the state is not finite: the run ends" : "");
+    // At once, not at the updater's next period: a run whose state is no longer finite ends
+    // within this step, and its diagnostics would otherwise never say why.
+    updater_.force_update();
   }
   const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.

@@ -13,6 +13,18 @@
 namespace preadaptive_mrac {
 namespace cli {
 
+int runTool(const char* tool, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const UsageError& e) {
+    std::cerr << tool << ": error: " << e.what() << std::endl;
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << tool << ": error: " << e.what() << std::endl;
+    return 1;
+  }
+}
+
 CLI::Option* addText(CLI::App& app, const std::string& name, std::string* out,
                      const std::string& help) {
   return app.add_option(name, *out, help)->expected(1)->type_name("TEXT");

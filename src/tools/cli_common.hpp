@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -21,6 +22,10 @@ class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// \brief A batch tool's main(): runs `body` and returns its exit code; a UsageError is
+/// printed as "<tool>: error: <what>" and gives 2, any other exception the same line and 1.
+int runTool(const char* tool, const std::function<int()>& body);
 
 /// \brief One run as the command line describes it.
 struct RunRequest {
@@ -53,14 +58,14 @@ SimResult execute(const PreparedRun& run, bool record_series,
 struct RunOptionText {
   std::string dt;
 };
-/// \brief Add --dt, --set, --plant, --controller (and --scenario when `with_scenario`) to a
-/// CLI11 app, bound to `req`.
 /// \brief The one line a batch tool says about a run that left the flight envelope ("" for
 /// one that stayed inside): "left the flight envelope at t = ...: <bound>; the run went on to
 /// its end" (a finite excursion) or "...; the run ended there (a state or command that is not
 /// finite)".
 std::string envelopeNote(const EnvelopeExit& x);
 
+/// \brief Add --dt, --set, --plant, --controller (and --scenario when `with_scenario`) to a
+/// CLI11 app, bound to `req`.
 void addRunOptions(CLI::App& app, RunRequest* req, RunOptionText* text, bool with_scenario);
 /// \brief Check what addRunOptions() bound (--dt a finite number). Throws UsageError.
 void finishRunOptions(const RunOptionText& text, RunRequest* req);

@@ -71,7 +71,7 @@ struct Job {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return cli::runTool("preadapt_family", [&]() -> int {
     cli::RunRequest base;
     std::optional<std::uint64_t> seed;
     int count = 30;
@@ -422,11 +422,5 @@ int main(int argc, char** argv) {
       }
     }
     return 0;
-  } catch (const cli::UsageError& e) {
-    std::cerr << "preadapt_family: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "preadapt_family: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -43,7 +43,7 @@ double positive(const std::string& flag, const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return cli::runTool("preadapt_margins", [&]() -> int {
     cli::RunRequest req;
     MarginOptions opt;
     CLI::App app{kAbout, "preadapt_margins"};
@@ -110,11 +110,5 @@ int main(int argc, char** argv) {
     j["runs"] = m.runs;
     std::cout << j.dump() << std::endl;
     return 0;
-  } catch (const cli::UsageError& e) {
-    std::cerr << "preadapt_margins: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "preadapt_margins: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   cli::RunRequest req;
   std::string csv, weights_out;
   bool json = false;
-  try {
+  return cli::runTool("preadapt_sim", [&]() -> int {
     CLI::App app{
         "Batch simulator: plant + controller in closed loop, no ROS master. Keys for --set are "
         "dotted YAML paths, e.g. controller.attention.c_e=0.01 or scenario.reference.0.r=0.05. "
@@ -81,11 +81,5 @@ int main(int argc, char** argv) {
                   res.metrics.max_abs_u);
     }
     return 0;
-  } catch (const cli::UsageError& e) {
-    std::cerr << "preadapt_sim: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "preadapt_sim: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -127,7 +127,7 @@ void mergeShards(const std::vector<std::string>& files, const std::vector<Expect
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return cli::runTool("preadapt_sweep", [&]() -> int {
     cli::RunRequest base;
     std::vector<std::string> modes;
     std::vector<std::uint64_t> seeds;
@@ -318,11 +318,5 @@ int main(int argc, char** argv) {
       std::cerr << std::flush;
     }
     return 0;
-  } catch (const cli::UsageError& e) {
-    std::cerr << "preadapt_sweep: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "preadapt_sweep: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -28,7 +28,7 @@ constexpr double kDeg = 180.0 / M_PI;
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
+  return cli::runTool("preadapt_trim", [&]() -> int {
     CLI::App app{
         "Trim the JSBSim aircraft of plant.jsbsim (default b747_pmrac at Mach 0.8, 40,000 ft) "
         "and linearise it through the package's JSBSim coupling into x = [e_I, alpha, q]. "
@@ -124,11 +124,5 @@ int main(int argc, char** argv) {
     std::printf("  B1r: [%.17g, %.17g, %.17g]\n", lm.B1r[0], lm.B1r[1], lm.B1r[2]);
     std::printf("  x0: [0.0, 0.0, 0.0]\n  output_index: 1\n");
     return 0;
-  } catch (const cli::UsageError& e) {
-    std::cerr << "preadapt_trim: error: " << e.what() << std::endl;
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "preadapt_trim: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

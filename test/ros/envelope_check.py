@@ -34,12 +34,13 @@ class EnvelopeTest(unittest.TestCase):
         self.inside = []  # steps of truths that name none
         self.diag_errors = []
         self.log_errors = []
-        # The truth first: the plant waits for the state subscription (subscribe_loop) only,
-        # and the exit is on the truth for the few tens of ms the run has left after it.
+        # The truth and diagnostics first: the plant waits for the state subscription
+        # (subscribe_loop) only, and the exit is on them for the few tens of ms the run has
+        # left after it.
         self.log_sub = rospy.Subscriber("/rosout", Log, self.on_log, queue_size=1000)
         self.truth_sub = rospy.Subscriber("plant/truth", PlantTruth, self.on_truth)
-        subscribe_loop(self)
         self.diag_sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag)
+        subscribe_loop(self)
 
     def on_state(self, msg):
         with self.lock:
@@ -95,6 +96,11 @@ class EnvelopeTest(unittest.TestCase):
             log = list(self.log_errors)
         self.assertEqual(len(log), 1, log)
         self.assertIn("t = ", log[0])
+        # The plant's diagnostics say it too, at ERROR, with the time.
+        wait_for(lambda: bool(self.diag_errors), 5.0, "the plant's ERROR on /diagnostics")
+        with self.lock:
+            diag = list(self.diag_errors)
+        self.assertIn("t = ", diag[0])
         # The recorder, stopped, names the bag: a run that left the envelope (and stopped).
         import rosbag
 
