@@ -18,7 +18,7 @@ import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rosgraph_msgs.msg import Log
-from rostest_util import signal_node, subscribe_loop, wait_for
+from rostest_util import signal_node, subscribe_loop, wait_connected, wait_for
 
 PKG = "preadaptive_mrac"
 
@@ -40,6 +40,9 @@ class EnvelopeTest(unittest.TestCase):
         self.log_sub = rospy.Subscriber("/rosout", Log, self.on_log, queue_size=1000)
         self.truth_sub = rospy.Subscriber("plant/truth", PlantTruth, self.on_truth)
         self.diag_sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diag)
+        # Connected before the plant can start: the exit lasts a few tens of ms of the run.
+        for sub in (self.truth_sub, self.log_sub, self.diag_sub):
+            wait_connected(sub, self.timeout, publisher_topic="plant/truth")
         subscribe_loop(self)
 
     def on_state(self, msg):

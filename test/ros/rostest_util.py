@@ -48,6 +48,35 @@ def _exited(pid):
         return True
 
 
+def wait_connected(sub, timeout, publisher_topic=None):
+    """Wait until `sub` is connected to every publisher the master lists for its topic, once
+    the topic `publisher_topic` (default: sub's own) has a publisher at all: a subscriber set
+    up before a plant starts then misses nothing of the run (the plant waits only for its state
+    subscribers, so a topic the test needs besides can otherwise connect too late)."""
+    import rosgraph
+
+    master = rosgraph.Master(rospy.get_name())
+
+    def publishers(topic):
+        for name, nodes in master.getSystemState()[0]:
+            if name == topic:
+                return nodes
+        return []
+
+    wait_for(
+        lambda: publishers(rospy.resolve_name(publisher_topic or sub.resolved_name)),
+        timeout,
+        "a publisher of %s" % (publisher_topic or sub.resolved_name),
+        poll=0.05,
+    )
+    wait_for(
+        lambda: sub.get_num_connections() >= len(publishers(sub.resolved_name)),
+        timeout,
+        "%s connected to its publishers" % sub.resolved_name,
+        poll=0.01,
+    )
+
+
 def subscribe_loop(test):
     """Subscribe controller/elevator_cmd (first, so that the command connection is up before a
     plant that waits for this node's state subscription starts) and plant/state, unbounded and
