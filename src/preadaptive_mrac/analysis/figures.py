@@ -256,7 +256,8 @@ def plot_flight(plt, run, m, path, xlim=None):
         _ylim_to_xlim(ax, [(ts, vs) for ts, vs, _, _, _ in series], xlim)
     axes[0].set_title(
         "Flight of the six-degree-of-freedom plant: run '%s' (mode %s); airspeed %.1f to "
-        '%.1f m/s, altitude %.0f to %.0f m' % (run.label, run.mode, np.min(v), np.max(v), np.min(h), np.max(h))
+        '%.1f m/s, altitude %.0f to %.0f m'
+        % (run.label, run.mode, np.min(v), np.max(v), np.min(h), np.max(h))
     )
     axes[-1].set_xlabel('time $t$ [s]')
     _xlim(axes[-1], xlim)

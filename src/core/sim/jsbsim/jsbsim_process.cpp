@@ -80,7 +80,9 @@ class ForkThread {
   }
 
  private:
-  ForkThread() { std::thread([this] { loop(); }).detach(); }
+  ForkThread() {
+    std::thread([this] { loop(); }).detach();
+  }
   void loop() {
     std::unique_lock<std::mutex> l(m_);
     for (;;) {
