@@ -26,23 +26,17 @@ marked() {
     { tr '\0' '\n' <"/proc/$p/environ"; } 2>/dev/null | grep -qxF "PMRAC_TEST_MARK=$MARK" && echo "$p"
   done
 }
-# wait up to $2 s until `marked $1` is non-empty (wait_gone: empty)
-wait_some() {
-  local end=$((SECONDS + $2))
+# wait up to $2 s until `marked $1` is non-empty (wait_some) or empty (wait_gone)
+wait_marked() {
+  local end=$((SECONDS + $3))
   while [ $SECONDS -lt $end ]; do
-    [ -n "$(marked "$1")" ] && return 0
+    if [ -n "$(marked "$2")" ]; then [ "$1" = some ] && return 0; else [ "$1" = gone ] && return 0; fi
     sleep 0.1
   done
   return 1
 }
-wait_gone() {
-  local end=$((SECONDS + $2))
-  while [ $SECONDS -lt $end ]; do
-    [ -z "$(marked "$1")" ] && return 0
-    sleep 0.1
-  done
-  return 1
-}
+wait_some() { wait_marked some "$1" "$2"; }
+wait_gone() { wait_marked gone "$1" "$2"; }
 launch() {
   roslaunch -p "$PORT" preadaptive_mrac scenario.launch plant_engine:=jsbsim mode:=rac \
     shape:="$1" output:=log >"$TMP/launch_$1.log" 2>&1 &
