@@ -255,7 +255,7 @@ def plot_flight(plt, run, m, path, xlim=None):
         _legend(ax)
         _ylim_to_xlim(ax, [(ts, vs) for ts, vs, _, _, _ in series], xlim)
     axes[0].set_title(
-        "Flight of the six-degree-of-freedom plant: run '%s' (mode %s); airspeed %.1f to "
+        "Flight of the six-degree-of-freedom plant: run '%s' (mode %s)\nairspeed %.1f to "
         '%.1f m/s, altitude %.0f to %.0f m'
         % (run.label, run.mode, np.min(v), np.max(v), np.min(h), np.max(h))
     )
