@@ -4,7 +4,9 @@
 #  1. nodelet shape: once the plant nodelet's JSBSim runs, pmrac_manager is SIGKILLed; its
 #     JSBSim must be gone within 2 s (PR_SET_PDEATHSIG from a thread that lives as long as the
 #     manager);
-#  2. process shape: once plant_sim_node's JSBSim runs, roslaunch gets SIGINT (Ctrl-C); the
+#  2. process shape: once plant_sim_node's JSBSim runs, the plant node is SIGKILLed; its
+#     JSBSim must be gone within 2 s;
+#  3. process shape: once plant_sim_node's JSBSim runs, roslaunch gets SIGINT (Ctrl-C); the
 #     launch must end and its JSBSim be gone.
 # The processes of this test carry a mark in their environment, so JSBSim processes of other
 # runs on the machine do not count.
@@ -60,7 +62,16 @@ kill -KILL $manager
 check "nodelet: JSBSim gone within 2 s of SIGKILL to the manager" wait_gone JSBSim 2
 stop_launch
 
-# 2. Ctrl-C of the launch (process shape)
+# 2. the plant node SIGKILLed mid-run (process shape)
+launch process
+check "process: the plant's JSBSim runs" wait_some JSBSim 60
+plant=$(marked plant_sim_node)
+check "process: one plant_sim_node" test "$(echo "$plant" | wc -w)" -eq 1
+kill -KILL $plant
+check "process: JSBSim gone within 2 s of SIGKILL to the plant node" wait_gone JSBSim 2
+stop_launch
+
+# 3. Ctrl-C of the launch (process shape)
 launch process
 check "process: the plant's JSBSim runs" wait_some JSBSim 60
 kill -INT "$LAUNCH"
