@@ -53,23 +53,21 @@ stop_launch() {
   return 0
 }
 
-# 1. the nodelet manager SIGKILLed mid-run
-launch nodelet
-check "nodelet: the plant's JSBSim runs" wait_some JSBSim 60
-manager=$(marked pmrac_manager)
-check "nodelet: one pmrac_manager" test "$(echo "$manager" | wc -w)" -eq 1
-kill -KILL $manager
-check "nodelet: JSBSim gone within 2 s of SIGKILL to the manager" wait_gone JSBSim 2
-stop_launch
-
-# 2. the plant node SIGKILLed mid-run (process shape)
-launch process
-check "process: the plant's JSBSim runs" wait_some JSBSim 60
-plant=$(marked plant_sim_node)
-check "process: one plant_sim_node" test "$(echo "$plant" | wc -w)" -eq 1
-kill -KILL $plant
-check "process: JSBSim gone within 2 s of SIGKILL to the plant node" wait_gone JSBSim 2
-stop_launch
+# SIGKILL the process named $2 (the plant's: the manager, or the plant node) of a $1-shape
+# launch once its JSBSim runs; the JSBSim must be gone within 2 s.
+kill_mid_run() {
+  launch "$1"
+  check "$1: the plant's JSBSim runs" wait_some JSBSim 60
+  local victim
+  victim=$(marked "$2")
+  check "$1: one $2" test "$(echo "$victim" | wc -w)" -eq 1
+  kill -KILL $victim
+  check "$1: JSBSim gone within 2 s of SIGKILL to $2" wait_gone JSBSim 2
+  stop_launch
+}
+# 1. the nodelet manager SIGKILLed mid-run; 2. the plant node (process shape)
+kill_mid_run nodelet pmrac_manager
+kill_mid_run process plant_sim_node
 
 # 3. Ctrl-C of the launch (process shape)
 launch process
