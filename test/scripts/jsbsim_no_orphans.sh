@@ -61,7 +61,7 @@ kill_mid_run() {
   local victim
   victim=$(marked "$2")
   check "$1: one $2" test "$(echo "$victim" | wc -w)" -eq 1
-  kill -KILL $victim
+  kill -KILL "$victim"
   check "$1: JSBSim gone within 2 s of SIGKILL to $2" wait_gone JSBSim 2
   stop_launch
 }
@@ -81,6 +81,7 @@ stop_launch
 left="$(marked JSBSim) $(marked pmrac_manager) $(marked plant_sim_node)"
 if [ -n "${left// /}" ]; then
   echo "FAIL: left behind: $left"
+  # shellcheck disable=SC2086 # a list of pids
   kill -KILL $left 2>/dev/null
   FAIL=1
 fi
