@@ -62,10 +62,24 @@ if(CATKIN_ENABLE_TESTING)
   # Issue 36: JSBSim as the plant engine, in the plant node too: a 6 s scenario in lockstep
   # equals the batch CLI's run on JSBSim bit for bit (one process each: the plant node forks
   # its JSBSim, preadapt_sim its own).
-  add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=process name_suffix:=_jsbsim
-    plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_plant.yaml
-    scenario_path:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_scenario.yaml
-    DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node preadapt_sim)
+  # In both shapes: in the nodelet shape the plant nodelet's JSBSim is forked from a thread
+  # that lives as long as the manager (PR_SET_PDEATHSIG follows the forking thread). The truth's
+  # flight outputs (pitch, airspeed, altitude, flight_path) equal the CSV's columns.
+  foreach(shape process nodelet)
+    add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=${shape} name_suffix:=_jsbsim
+      plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_plant.yaml
+      scenario_path:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_scenario.yaml
+      DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
+                   preadaptive_mrac_nodelets preadapt_sim)
+  endforeach()
+  # JSBSim on the realtime clock (process shape; recorded whole, no JSBSim left after the run),
+  # and killed mid-run in lockstep (nodelet shape: the run ends with an ERROR naming it, the bag
+  # .incomplete.bag, no JSBSim left).
+  add_rostest(test/ros/jsbsim.test ARGS case:=realtime shape:=process
+    DEPENDENCIES plant_sim_node mrac_controller_node bag_recorder_node)
+  add_rostest(test/ros/jsbsim.test ARGS case:=killed shape:=nodelet
+    DEPENDENCIES plant_sim_node mrac_controller_node bag_recorder_node pmrac_manager
+                 preadaptive_mrac_nodelets)
 
   # Broken parameters: nodes exit non-zero naming the key and never publish a command.
   add_rostest(test/ros/broken_config.test

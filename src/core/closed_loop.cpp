@@ -74,10 +74,11 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       v->reserve(static_cast<size_t>(steps));
     s.phase.reserve(static_cast<size_t>(steps));
     s.saturated.reserve(static_cast<size_t>(steps));
-    if (sim.hasConditions()) s.conditions.reserve(static_cast<size_t>(steps));
+    if (sim.conditionRows().any()) s.conditions.reserve(static_cast<size_t>(steps));
+    s.condition_rows = sim.conditionRows();
   }
   // The conditions' columns: what the plant did over each sample, recorded after advance().
-  const bool conditions = opt.record_series && sim.hasConditions();
+  const bool conditions = opt.record_series && sim.conditionRows().any();
   const bool stopping = opt.stop_above < std::numeric_limits<double>::infinity();
   while (!sim.done()) {
     const double t = sim.time();
@@ -111,12 +112,6 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       s.theta_true.push_back(sim.theta());
       s.phase.push_back(ctl_->phaseActive() ? 1 : 0);
       s.saturated.push_back(o.saturated ? 1 : 0);
-      if (const FlightOutputs* f = sim.flight()) {
-        s.pitch.push_back(f->pitch);
-        s.airspeed.push_back(f->airspeed);
-        s.altitude.push_back(f->altitude);
-        s.flight_path.push_back(f->flight_path);
-      }
     }
     if (stopping && !(std::abs(o.e) <= opt.stop_above && std::isfinite(o.u))) {
       res.stopped = true;

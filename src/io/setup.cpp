@@ -129,7 +129,7 @@ nlohmann::ordered_json envelopeExitJson(const EnvelopeExit& x) {
   j["u_command"] = num(x.u_command);
   J c;
   for (const PlantConditionColumn& col : kPlantConditionTable)
-    c[col.name] = num(x.conditions.*col.field);
+    if (x.rows.has(col)) c[col.name] = num(x.conditions.*col.field);
   j["conditions"] = c;
   j["non_finite"] = x.non_finite;
   j["non_finite_t"] = x.non_finite ? J(x.non_finite_t) : J(nullptr);
@@ -252,14 +252,14 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   for (int i = 0; i < n; ++i) header += ",theta_hat" + std::to_string(i);
   for (int i = 0; i < n; ++i) header += ",theta_true" + std::to_string(i);
   header += ",phase,u_baseline,u_adaptive,r,saturated";
-  // Columns of the plant's conditions only when a run has them (Series::conditions): a run of
-  // the ideal plant writes the same bytes as before they existed.
-  const bool cond = !s.conditions.empty();
-  if (cond)
-    for (const PlantConditionColumn& c : kPlantConditionTable) header += std::string(",") + c.name;
-  // A six-degree-of-freedom engine's outputs (plant.engine jsbsim) likewise.
-  const bool flight = !s.pitch.empty();
-  if (flight) header += ",pitch,airspeed,altitude,flight_path";
+  // Columns of the plant's conditions only when a run has them (Series::conditions, the rows
+  // of Series::condition_rows): a run of the ideal plant writes the same bytes as before they
+  // existed, a run of the linear plant never has the engine's rows.
+  std::vector<const PlantConditionColumn*> cols;
+  if (!s.conditions.empty())
+    for (const PlantConditionColumn& c : kPlantConditionTable)
+      if (s.condition_rows.has(c)) cols.push_back(&c);
+  for (const PlantConditionColumn* c : cols) header += std::string(",") + c->name;
   header += '\n';
   std::fputs(header.c_str(), f.get());
   std::string line;
@@ -297,21 +297,13 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
     }
     line += ',';
     integer(s.saturated[k]);
-    if (cond) {
-      for (const PlantConditionColumn& c : kPlantConditionTable) {
-        const double v = s.conditions[k].*c.field;
-        line += ',';
-        if (c.isFlag())
-          integer(v != 0.0 ? 1 : 0);
-        else
-          num(v);
-      }
-    }
-    if (flight) {
-      for (double v : {s.pitch[k], s.airspeed[k], s.altitude[k], s.flight_path[k]}) {
-        line += ',';
+    for (const PlantConditionColumn* c : cols) {
+      const double v = s.conditions[k].*c->field;
+      line += ',';
+      if (c->isFlag())
+        integer(v != 0.0 ? 1 : 0);
+      else
         num(v);
-      }
     }
     line += '\n';
     std::fwrite(line.data(), 1, line.size(), f.get());

@@ -72,7 +72,8 @@ class PlantSimNodelet : public ContextNodelet {
     ctx_ = makeContext();
     PlantNodeParams params;
     if (!readNodeParams(*ctx_, readPlantNodeParams, &params)) return;
-    node_ = std::make_unique<PlantSimNode>(*ctx_, params);
+    node_ = makePlantSimNode(*ctx_, params);
+    if (!node_) return;
     thread_ = std::thread([this] {
       nameThisThread();
       const int code = node_->run();

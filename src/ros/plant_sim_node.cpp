@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 #include "preadaptive_mrac/ros/tick_source.hpp"
 
@@ -74,9 +75,10 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
   latency_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
-  // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0).
+  // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0); an
+  // engine's own pitch attitude (the trim's at the start).
   const int out = sim_.plant().outputIndex();
-  theta_pitch_ = sim_.state()[out];
+  theta_pitch_ = sim_.flight() ? sim_.flight()->pitch : sim_.state()[out];
 }
 
 ros::Time PlantSimNode::simStamp(double t) {
@@ -204,7 +206,10 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   truth->condition_names.reserve(kPlantConditionTable.size());
   truth->conditions.reserve(kPlantConditionTable.size());
   truth->condition_of_previous_step.reserve(kPlantConditionTable.size());
+  // Every row of the plant's (as before the engine's existed), the engine's on an engine.
+  const ConditionRows rows{true, sim_.engine() != nullptr};
   for (const PlantConditionColumn& c : kPlantConditionTable) {
+    if (!rows.has(c)) continue;
     truth->condition_names.emplace_back(c.name);
     truth->conditions.push_back(sim_.conditions().*c.field);
     truth->condition_of_previous_step.push_back(c.known == ConditionKnown::kAfterStep ? 1 : 0);
@@ -237,9 +242,11 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
     const auto tfs = boost::make_shared<tf2_msgs::TFMessage>();
     tfs->transforms.push_back(
         pitchTransform(stamp, params_.world_frame, params_.body_frame, -theta_pitch_));
-    // The velocity vector lies alpha below the nose: rotate the body frame nose-down by alpha.
-    tfs->transforms.push_back(
-        pitchTransform(stamp, params_.body_frame, params_.velocity_frame, x[out]));
+    // The velocity vector lies alpha below the nose: rotate the body frame nose-down by alpha
+    // (on an engine the whole angle, pitch attitude - flight path angle, trim included).
+    const FlightOutputs* f = sim_.flight();
+    tfs->transforms.push_back(pitchTransform(stamp, params_.body_frame, params_.velocity_frame,
+                                             f ? f->pitch - f->flight_path : x[out]));
     tf_pub_.publish(tf2_msgs::TFMessage::ConstPtr(tfs));
   }
 }
@@ -261,8 +268,12 @@ void PlantSimNode::advance(double u) {
     updater_.force_update();
   }
   const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
-  // Display only: the pitch angle is not a state of the model; trapezoidal integral of q.
-  theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
+  // Display only: the pitch angle is not a state of the model; trapezoidal integral of q
+  // (an engine knows its pitch attitude).
+  if (const FlightOutputs* f = sim_.flight())
+    theta_pitch_ = f->pitch;
+  else
+    theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
 }
 
 int PlantSimNode::run() {
@@ -272,11 +283,24 @@ int PlantSimNode::run() {
            params_.clock == ClockMode::kRealtime
                ? (", " + std::to_string(params_.rate) + " Hz").c_str()
                : "");
-  return clock_->run();
+  try {
+    const int code = clock_->run();
+    sim_.closeEngine();  // no JSBSim outlives its run (a lingering node, a loaded nodelet)
+    return code;
+  } catch (const JsbsimError& e) {
+    // The engine failed mid-run (its process died or stopped answering): the run ends here,
+    // saying so; the engine's process is already stopped (JsbsimProcess's error paths).
+    ROS_ERROR("plant_sim: the run ends at step %lld of %lld (t = %g s): %s (exit code %d)",
+              static_cast<long long>(sim_.step()), static_cast<long long>(sim_.totalSteps()),
+              sim_.time(), e.what(), kExitRuntimeError);
+    finish(false);
+    return kExitRuntimeError;
+  }
 }
 
 void PlantSimNode::linger() {
   if (!params_.linger || !completed_ || !ctx_.ok()) return;
+  sim_.closeEngine();  // its JSBSim ends with the run, not with the node
   // Leave every topic (a run monitor sees the plant go, as if it had exited) but stay alive,
   // so that a launch file can mark this node required without its normal end ending the launch.
   state_pub_.shutdown();
@@ -375,12 +399,27 @@ RunReport PlantSimNode::report() const {
   return r;
 }
 
+std::unique_ptr<PlantSimNode> makePlantSimNode(const NodeContext& ctx,
+                                               const PlantNodeParams& params) {
+  try {
+    return std::make_unique<PlantSimNode>(ctx, params);
+  } catch (const JsbsimError& e) {
+    // plant.engine jsbsim that cannot start (not installed, an aircraft that does not load,
+    // a failed trim): what is wrong and how to fix it, before anything is advertised.
+    ROS_FATAL("%s: the plant's engine cannot start: %s (exit code %d)", ctx.name().c_str(),
+              e.what(), kExitConfigError);
+    ctx.end(kExitConfigError);
+    return nullptr;
+  }
+}
+
 int runPlantSimNode() {
   const NodeContext ctx = NodeContext::forProcess();
   PlantNodeParams params;
   if (!readNodeParams(ctx, readPlantNodeParams, &params)) return processExitCode();
-  PlantSimNode node(ctx, params);
-  const int code = node.run();
+  std::unique_ptr<PlantSimNode> node = makePlantSimNode(ctx, params);
+  if (!node) return processExitCode();
+  const int code = node->run();
   if (code != 0) return code;
   // A normal end: under roslaunch, end the launch quietly and wait to be stopped with it
   // (returning now would race roslaunch into reporting this process as died).

@@ -102,18 +102,42 @@ TEST(Jsbsim, ScenarioPlantRunsTheClosedLoopOnJsbsim) {
   cfg.scenario.reference[0].until = 2.0;
   const SimResult r = test::simulate(cfg);
   ASSERT_EQ(r.steps, 2000);
-  ASSERT_EQ(r.series.pitch.size(), 2000u);
-  ASSERT_EQ(r.series.airspeed.size(), 2000u);
+  // The flight outputs are rows of the conditions record (the plant's rows too: gusts).
+  ASSERT_EQ(r.series.conditions.size(), 2000u);
+  EXPECT_TRUE(r.series.condition_rows.engine);
+  EXPECT_TRUE(r.series.condition_rows.plant);
+  const auto& c = r.series.conditions;
   // The loop tracks r = 0.1 rad from the trim: alpha rises towards it, no blow-up.
   EXPECT_GT(r.series.x.back()[1], 0.03);
   EXPECT_LT(r.metrics.peak_abs_e, 0.2);
-  EXPECT_NEAR(r.series.airspeed.front(), 236.055, 0.01);
-  EXPECT_NEAR(r.series.altitude.front(), 12192.0, 0.5);
+  EXPECT_NEAR(c.front().airspeed, 236.055, 0.01);
+  EXPECT_NEAR(c.front().altitude, 12192.0, 0.5);
+  EXPECT_NE(c.back().altitude, c.front().altitude);  // read every step
   // The pitch attitude carries alpha: theta - gamma - alpha_trim = x_alpha.
   const size_t k = 1500;
-  EXPECT_NEAR(r.series.pitch[k] - r.series.flight_path[k] - r.series.pitch.front() +
-                  r.series.flight_path.front(),
+  EXPECT_NEAR(c[k].pitch - c[k].flight_path - c.front().pitch + c.front().flight_path,
               r.series.x[k][1], 1e-9);
+}
+
+TEST(Jsbsim, FlightRowsOnlyOnTheEngine) {
+  // Without plant conditions the record of a JSBSim run has the engine's rows alone; the
+  // linear plant's has none (its CSV and truth never gain them).
+  RunConfig cfg = jsbsimConfig();
+  cfg.scenario.theta.resize(1);
+  cfg.scenario.theta[0].until = 0.05;
+  cfg.scenario.reference.resize(1);
+  cfg.scenario.reference[0].until = 0.05;
+  ScenarioPlant jsb(cfg.plant, cfg.scenario, 0.001);
+  EXPECT_FALSE(jsb.conditionRows().plant);
+  EXPECT_TRUE(jsb.conditionRows().engine);
+  EXPECT_NEAR(jsb.conditions().airspeed, 236.055, 0.01);
+  const SimResult r = test::simulate(cfg);
+  ASSERT_EQ(r.series.conditions.size(), 50u);
+  EXPECT_FALSE(r.series.condition_rows.plant);
+  cfg.plant.engine = PlantEngineKind::kLinear;
+  ScenarioPlant lin(cfg.plant, cfg.scenario, 0.001);
+  EXPECT_FALSE(lin.conditionRows().any());
+  EXPECT_TRUE(test::simulate(cfg).series.conditions.empty());
 }
 
 TEST(Jsbsim, PhysicalFaultsActFromTheirSegment) {

@@ -149,26 +149,48 @@ class TestConditionColumns(unittest.TestCase):
         self.assertIsNotNone(run.u_applied)
 
     def test_a_new_condition_column_is_loaded_and_drawn_by_name(self):
-        """Issue 34: a condition the Python side has never heard of (here 'airspeed') comes in
-        by its column name and gets a figure of its own; a constant one gets none."""
+        """Issue 34: a condition the Python side has never heard of (here 'gust_alpha') comes
+        in by its column name and gets a figure of its own; a constant one gets none."""
         from preadaptive_mrac.analysis import figures, metrics
 
         path = os.path.join(self.dir, 'new_rac.csv')
         with open(path, 'w') as f:
-            f.write(HEADER + ',u_applied,effectiveness,w_gust,plant_limited,airspeed\n')
+            f.write(HEADER + ',u_applied,effectiveness,w_gust,plant_limited,gust_alpha\n')
             for i in range(201):
                 row = [i * 0.01, 0, 0.1, 0, 0, 0.1, 0, 0, 0, 0.2, 1, 1, 1, 1, 1, 1, 0]
-                row += [0.1, 1, 0, 0, 274.0 - 0.01 * i]
+                row += [0.1, 1, 0, 0, 0.001 * i]
                 f.write(','.join('%g' % v for v in row) + '\n')
         (run,) = loading.load_runs(path)
         self.assertEqual(
             sorted(run.conditions),
-            ['airspeed', 'effectiveness', 'plant_limited', 'u_applied', 'w_gust'],
+            ['effectiveness', 'gust_alpha', 'plant_limited', 'u_applied', 'w_gust'],
         )
-        self.assertAlmostEqual(run.conditions['airspeed'][1][100], 273.0)
+        self.assertAlmostEqual(run.conditions['gust_alpha'][1][100], 0.1)
         files = figures.write_figures(self.dir, [run], [metrics.run_metrics(run)], None)
         names = sorted(os.path.basename(p) for p in files if 'condition_' in p)
-        self.assertEqual(names, ['condition_airspeed_new_rac.png'])
+        self.assertEqual(names, ['condition_gust_alpha_new_rac.png'])
+
+    def test_a_jsbsim_run_gets_the_flight_figure(self):
+        """Issue 36: the engine's rows of the record (a JSBSim CSV: pitch, airspeed, altitude,
+        flight_path after the fixed columns) load as conditions and are drawn together in
+        flight_<run>.png, not one figure each; a linear run has no flight figure."""
+        from preadaptive_mrac.analysis import figures, metrics
+
+        path = os.path.join(self.dir, 'jsb_rac.csv')
+        with open(path, 'w') as f:
+            f.write(HEADER + ',pitch,airspeed,altitude,flight_path\n')
+            for i in range(201):
+                row = [i * 0.01, 0, 0.1, 0, 0, 0.1, 0, 0, 0, 0.2, 1, 1, 1, 1, 1, 1, 0]
+                row += [0.0777 + 0.001 * i, 236.06 - 0.1 * i, 12192.0 + 0.5 * i, 0.001 * i]
+                f.write(','.join('%g' % v for v in row) + '\n')
+        (run,) = loading.load_runs(path)
+        self.assertTrue(figures.has_flight(run))
+        self.assertAlmostEqual(run.conditions['altitude'][1][200], 12292.0)
+        files = figures.write_figures(self.dir, [run], [metrics.run_metrics(run)], None)
+        names = sorted(os.path.basename(p) for p in files)
+        self.assertIn('flight_jsb_rac.png', names)
+        self.assertEqual([n for n in names if n.startswith('condition_')], [])
+        self.assertFalse(figures.has_flight(loading.load_runs(write_csv(self.dir + '/l.csv'))[0]))
 
 
 class TestEnvelopeExit(unittest.TestCase):

@@ -55,12 +55,11 @@ struct Series {
   std::vector<Vec> x, x_r, theta_hat, theta_true;  ///< x: true state
   std::vector<int> phase, saturated;
   /// The plant's conditions over each step (core/sim/plant_conditions.hpp), recorded only when
-  /// it has some (ScenarioPlant::hasConditions). Empty for the paper's ideal plant.
+  /// it has some: the rows of condition_rows (the plant's when ScenarioPlant::hasConditions;
+  /// on an engine, plant.engine jsbsim, its flight outputs at t_k: pitch attitude, airspeed,
+  /// altitude, flight path angle). Empty for the paper's ideal linear plant.
   std::vector<PlantConditions> conditions;
-  /// What a six-degree-of-freedom engine (plant.engine jsbsim) reports beside x at t_k:
-  /// pitch attitude [rad], true airspeed [m/s], altitude [m], flight path angle [rad]. Empty
-  /// on the linear plant.
-  std::vector<double> pitch, airspeed, altitude, flight_path;
+  ConditionRows condition_rows;
 };
 
 /// \brief Options of a batch run.

@@ -44,7 +44,8 @@ class PlantSimNode {
   PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params);
 
   /// \brief Run the scenario to its end (or until shutdown). Returns the process exit code:
-  /// 0 on completion or interruption, kExitRuntimeError on a start or command timeout (no
+  /// 0 on completion or interruption, kExitRuntimeError when the engine fails mid-run (a
+  /// JSBSim process that died: logged, the run stopped), on a start or command timeout (no
   /// controller subscribed within ~start_timeout; lockstep: no command within
   /// ~command_timeout; realtime: no valid command within ~start_timeout of the first state).
   /// With ~linger, a completed run closes its topics and returns only at shutdown. Blocks: a
@@ -124,6 +125,12 @@ class PlantSimNode {
   bool completed_ = false;
   std::unique_ptr<PlantClock> clock_;  ///< ~clock: the loop; made last
 };
+
+/// \brief The node, or nullptr when its plant cannot start (plant.engine jsbsim: JSBSim not
+/// installed, an aircraft that does not load, a failed trim): ROS_FATAL saying what and how
+/// to fix it, ctx.end(kExitConfigError). Process and nodelet.
+std::unique_ptr<PlantSimNode> makePlantSimNode(const NodeContext& ctx,
+                                               const PlantNodeParams& params);
 
 /// \brief Everything main() does after ros::init(): read ~ (every problem at once; ROS_FATAL
 /// each and return kExitConfigError without advertising), build the node, run it.

@@ -43,8 +43,19 @@ void EnvelopeMonitor::record(std::int64_t step, double t, const char* bound, con
   if (exit_.exited) return;            // the first exit only
   alpha_limit_ = q_limit_ = HUGE_VAL;  // from now on only finiteness matters
   // (non_finite and its time are kept: a non-finite command is flagged before it is recorded)
-  exit_ = EnvelopeExit{
-      true, step, t, bound, key, value, limit, x, u, c, exit_.non_finite, exit_.non_finite_t};
+  exit_ = EnvelopeExit{true,
+                       step,
+                       t,
+                       bound,
+                       key,
+                       value,
+                       limit,
+                       x,
+                       u,
+                       c,
+                       ConditionRows{true, engine_},
+                       exit_.non_finite,
+                       exit_.non_finite_t};
 }
 
 }  // namespace preadaptive_mrac

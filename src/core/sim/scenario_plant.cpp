@@ -14,7 +14,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       actuator_(plant.dynamics, plant.actuator, dt > 0.0 ? dt : 1.0),
       gust_(plant.turbulence, plant.airspeed, dt > 0.0 ? dt : 1.0),
       has_lambda_(!scenario.effectiveness.empty()),
-      envelope_(plant.envelope, plant.output_index),
+      envelope_(plant.envelope, plant.output_index, plant.engine != PlantEngineKind::kLinear),
       noise_cfg_(plant.noise),
       noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {
@@ -68,6 +68,13 @@ void ScenarioPlant::sampleInputs() {
     cond_.effectiveness = scenario_.effectiveness[lambda_idx_].value;
   }
   cond_.w_gust = gust_.value();
+  if (engine_) {
+    const FlightOutputs& f = engine_->flight();  // at t_k: the state's sample
+    cond_.pitch = f.pitch;
+    cond_.airspeed = f.airspeed;
+    cond_.altitude = f.altitude;
+    cond_.flight_path = f.flight_path;
+  }
   if (engine_ && !scenario_.faults.empty()) {
     fault_idx_ = scenario_.faultIndexFrom(mid, fault_idx_);
     const auto& f = scenario_.faults[fault_idx_];

@@ -211,7 +211,58 @@ CONDITIONS_SHOWN_ELSEWHERE = {
     'w_gust': 'the gust figure',
     'effectiveness': 'the scenario schedule (not drawn)',
     'plant_limited': 'a flag (the saturation count, not drawn)',
+    'pitch': 'the flight figure',
+    'airspeed': 'the flight figure',
+    'altitude': 'the flight figure',
+    'flight_path': 'the flight figure',
 }
+# The flight outputs of a six-degree-of-freedom plant (plant.engine jsbsim, docs/jsbsim.md):
+# rows of the conditions record only such a run has, drawn together by plot_flight.
+FLIGHT_CONDITIONS = ('airspeed', 'altitude', 'pitch', 'flight_path')
+
+
+def has_flight(run):
+    """The run's plant was an engine that reports its flight (a JSBSim run)."""
+    return all(n in run.conditions for n in FLIGHT_CONDITIONS)
+
+
+def plot_flight(plt, run, m, path, xlim=None):
+    """What the linear model never had, of a JSBSim run: true airspeed, altitude, and pitch
+    attitude with the flight path angle (their difference is the angle of attack)."""
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(11, 7.6))
+    t, v = run.conditions['airspeed']
+    th, h = run.conditions['altitude']
+    tp, pitch = run.conditions['pitch']
+    tg, gamma = run.conditions['flight_path']
+    panels = (
+        (axes[0], [(t, v, 'tab:blue', '-', 'true airspeed')], 'airspeed [m/s]'),
+        (axes[1], [(th, h, 'tab:brown', '-', 'altitude')], 'altitude [m]'),
+        (
+            axes[2],
+            [
+                (tp, np.degrees(pitch), 'tab:purple', '-', r'pitch attitude $\vartheta$'),
+                (tg, np.degrees(gamma), 'tab:green', '--', r'flight path angle $\gamma$'),
+            ],
+            'angle [deg]',
+        ),
+    )
+    for i, (ax, series, ylabel) in enumerate(panels):
+        for ts, vs, col, ls, label in series:
+            ax.plot(ts, vs, color=col, ls=ls, lw=1.2, label=label, zorder=3)
+        _switch_lines(ax, m, annotate=(i == 0))
+        _event_lines(ax, run, with_labels=(i == 0))
+        ax.set_ylabel(ylabel)
+        _legend(ax)
+        _ylim_to_xlim(ax, [(ts, vs) for ts, vs, _, _, _ in series], xlim)
+    axes[0].set_title(
+        "Flight of the six-degree-of-freedom plant: run '%s' (mode %s)\nairspeed %.1f to "
+        '%.1f m/s, altitude %.0f to %.0f m'
+        % (run.label, run.mode, np.min(v), np.max(v), np.min(h), np.max(h))
+    )
+    axes[-1].set_xlabel('time $t$ [s]')
+    _xlim(axes[-1], xlim)
+    _save(fig, path)
+    plt.close(fig)
 
 
 def plot_condition(plt, run, m, name, path, xlim=None):
@@ -342,6 +393,10 @@ def write_figures(out_dir, runs, metrics, comparison, c_e=0.005, xlim=None):
         if r.gust_w is not None:
             p = os.path.join(out_dir, 'gust_%s.png' % s)
             plot_gust(plt, r, m, p, xlim)
+            files.append(p)
+        if has_flight(r):
+            p = os.path.join(out_dir, 'flight_%s.png' % s)
+            plot_flight(plt, r, m, p, xlim)
             files.append(p)
         for name, (_, v) in sorted(r.conditions.items()):
             if name in CONDITIONS_SHOWN_ELSEWHERE or len(v) == 0 or np.all(v == v[0]):

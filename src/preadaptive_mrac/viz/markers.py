@@ -23,6 +23,21 @@ def _color(r, g, b, a=1.0):
     return ColorRGBA(r, g, b, a)
 
 
+def flight_of(truth):
+    """The flight outputs of a six-degree-of-freedom plant (plant.engine jsbsim) from a
+    PlantTruth's conditions record: {pitch, airspeed, altitude, flight_path}, or None when the
+    plant is the linear model (its record has no such rows)."""
+    if truth is None:
+        return None
+    c = dict(zip(getattr(truth, 'condition_names', []), getattr(truth, 'conditions', [])))
+    if not all(n in c for n in FLIGHT_ROWS):
+        return None
+    return {n: c[n] for n in FLIGHT_ROWS}
+
+
+FLIGHT_ROWS = ('pitch', 'airspeed', 'altitude', 'flight_path')
+
+
 def _t_of(msg):
     """Sample time of a message: its `t` field if the definition has one, else the stamp."""
     t = getattr(msg, 't', None)
@@ -55,6 +70,7 @@ class VizMarkers:
         self.state = None
         self.status = None
         self.truth = None
+        self.altitude0 = None  # a JSBSim run's first altitude (the text shows the change)
         self.last_event = None
         self.events = collections.deque(maxlen=200)
         self.hist = collections.deque()  # (t, alpha, alpha_ref)
@@ -81,6 +97,7 @@ class VizMarkers:
             if self.hist and t < self.hist[-1][0] - 1e-9:
                 # time went back: a new run (or a bag looped); start the history afresh
                 self.hist.clear()
+                self.altitude0 = None
                 self.events.clear()
                 self.last_event = None
             self.state = msg
@@ -126,9 +143,15 @@ class VizMarkers:
             return
         self._last_tf_step = msg.step
         tfs = []
+        # The velocity vector lies alpha below the nose; on a JSBSim run the whole angle of
+        # attack, pitch attitude - flight path angle (PlantState.theta_pitch is then JSBSim's
+        # pitch attitude).
+        with self.lock:
+            fl = flight_of(self.truth)
+        alpha = fl['pitch'] - fl['flight_path'] if fl is not None else msg.alpha
         for parent, child, angle in (
             (self.world, self.body, -msg.theta_pitch),
-            (self.body, self.velocity, msg.alpha),
+            (self.body, self.velocity, alpha),
         ):
             tr = TransformStamped()
             tr.header.stamp = stamp
@@ -224,6 +247,25 @@ class VizMarkers:
                     _color(1.0, 0.9, 0.3),
                 )
             )
+        # issue 36: a JSBSim run's attitude, airspeed and altitude (the linear model has none)
+        fl = flight_of(truth)
+        if fl is not None:
+            lines.append(
+                (
+                    'pitch %+.2f deg, flight path %+.2f deg'
+                    % (math.degrees(fl['pitch']), math.degrees(fl['flight_path'])),
+                    _color(0.85, 0.6, 1.0),
+                )
+            )
+            if self.altitude0 is None:
+                self.altitude0 = fl['altitude']
+            lines.append(
+                (
+                    'airspeed %.1f m/s, altitude %.0f m (%+.1f m)'
+                    % (fl['airspeed'], fl['altitude'], fl['altitude'] - self.altitude0),
+                    _color(0.5, 1.0, 0.7),
+                )
+            )
         if status is not None:
             lines.append(
                 (
@@ -278,7 +320,7 @@ class VizMarkers:
             m.color = col
             m.text = txt
             out.append(m)
-        for i in range(len(lines), 7):  # keep ids stable: remove lines no longer shown
+        for i in range(len(lines), 9):  # keep ids stable: remove lines no longer shown
             m = self._marker('text', i, Marker.TEXT_VIEW_FACING, self.world)
             m.action = Marker.DELETE
             out.append(m)

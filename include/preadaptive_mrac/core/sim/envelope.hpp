@@ -33,6 +33,7 @@ struct EnvelopeExit {
   Vec x;                       ///< the true state at t
   double u_command = 0.0;      ///< the command of the step that was taken at t [rad]
   PlantConditions conditions;  ///< the plant's conditions record at t
+  ConditionRows rows{true, false};  ///< its rows (the engine's only on an engine)
   /// A state or command was not finite (at the exit or later): the run ended at non_finite_t.
   bool non_finite = false;
   double non_finite_t = 0.0;
@@ -44,8 +45,11 @@ struct EnvelopeExit {
 /// \brief Checks one sample against the envelope and keeps the first exit.
 class EnvelopeMonitor {
  public:
-  explicit EnvelopeMonitor(const FlightEnvelope& env = FlightEnvelope(), int alpha_index = 1)
-      : env_(env), alpha_(alpha_index) {
+  /// \brief `engine`: the plant is an engine (plant.engine not linear), whose rows the exit's
+  /// conditions record has.
+  explicit EnvelopeMonitor(const FlightEnvelope& env = FlightEnvelope(), int alpha_index = 1,
+                           bool engine = false)
+      : env_(env), alpha_(alpha_index), engine_(engine) {
     reset();
   }
   void reset() {
@@ -82,6 +86,7 @@ class EnvelopeMonitor {
               double limit, const Vec& x, double u, const PlantConditions& c);
   FlightEnvelope env_;
   int alpha_;
+  bool engine_ = false;
   double alpha_limit_ = HUGE_VAL, q_limit_ = HUGE_VAL;  // the bounds while they matter
   void markNonFinite(double t) {
     if (!exit_.non_finite) exit_.non_finite_t = t;

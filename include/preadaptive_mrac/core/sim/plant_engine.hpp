@@ -53,6 +53,9 @@ class PlantEngine {
   virtual void readFlight(bool on) = 0;
   /// \brief The trimmed true airspeed [m/s] (the V of the gust filter).
   virtual double trimAirspeed() const = 0;
+  /// \brief Free what the engine holds (JSBSim: end its process) once nothing steps it any
+  /// more; state() and flight() keep their last values, step() and reset() then fail.
+  virtual void close() = 0;
 };
 
 /// \brief The engine plant.engine names, started and trimmed (nullptr for `linear`: the

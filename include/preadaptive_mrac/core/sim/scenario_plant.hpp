@@ -43,18 +43,26 @@ class ScenarioPlant {
   /// \brief True state x_k.
   const Vec& state() const { return engine_ ? engine_->state() : plant_.state(); }
   /// \brief Pitch attitude, airspeed, altitude, flight path angle at t_k: nullptr on the
-  /// linear plant.
+  /// linear plant (also the engine rows of conditions()).
   const FlightOutputs* flight() const { return engine_ ? &engine_->flight() : nullptr; }
   /// \brief The engine (nullptr on the linear plant).
   PlantEngine* engine() const { return engine_.get(); }
+  /// \brief The run is over: end the engine's process now (PlantEngine::close) rather than
+  /// when this object goes; nothing may advance() or reset() after it.
+  void closeEngine() {
+    if (engine_) engine_->close();
+  }
   /// \brief What a sensor reports at t_k: x_k plus the configured noise (x_k when none).
   const Vec& measured() const { return measured_; }
   double reference() const { return r_; }
   const Vec& theta() const { return theta_; }
   /// \brief The conditions record at t_k (plant_conditions.hpp): the values held over the
-  /// coming step, and what the last step did (its applied elevator and limit flag; 0 before
-  /// the first step).
+  /// coming step, what the last step did (its applied elevator and limit flag; 0 before
+  /// the first step), and on an engine its flight outputs at t_k.
   const PlantConditions& conditions() const { return cond_; }
+  /// \brief The rows of the record this plant has: the plant's when hasConditions(), the
+  /// engine's on an engine.
+  ConditionRows conditionRows() const { return {conditions_, engine_ != nullptr}; }
   /// \brief Elevator effectiveness Lambda held over the coming step (1 without a schedule).
   double effectiveness() const { return cond_.effectiveness; }
   /// \brief Vertical gust w_g [m/s] held over the coming step (0 without turbulence).

@@ -14,11 +14,14 @@
 
 #include <cerrno>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -51,6 +54,58 @@ std::vector<std::filesystem::path> exeAncestors(int levels) {
   }
   return out;
 }
+
+/// \brief The thread every JSBSim is forked from. PR_SET_PDEATHSIG fires when the *thread*
+/// that forked the child ends, not its process: a JSBSim forked by a thread that ends before
+/// the run (a nodelet's onInit served by a thread that goes, a pool's worker) would be killed
+/// mid-run. This thread lives until the process ends (detached, never joined; the object is
+/// never destroyed), so the child dies exactly with the process, whatever ends it.
+class ForkThread {
+ public:
+  static ForkThread& instance() {
+    static ForkThread* const t = new ForkThread();  // never destroyed: the thread outlives main
+    return *t;
+  }
+  /// \brief fork() on this thread; the child runs `child` (async-signal-safe calls only, then
+  /// exec or _exit). The child's pid, or -1 with errno set.
+  pid_t fork(const std::function<void()>& child) {
+    std::lock_guard<std::mutex> one(call_);  // one fork at a time
+    std::unique_lock<std::mutex> l(m_);
+    job_ = &child;
+    done_ = false;
+    cv_.notify_all();
+    cv_.wait(l, [this] { return done_; });
+    errno = err_;
+    return pid_;
+  }
+
+ private:
+  ForkThread() {
+    std::thread([this] { loop(); }).detach();
+  }
+  void loop() {
+    std::unique_lock<std::mutex> l(m_);
+    for (;;) {
+      cv_.wait(l, [this] { return job_ != nullptr; });
+      const pid_t p = ::fork();
+      if (p == 0) {
+        (*job_)();
+        ::_exit(127);
+      }
+      err_ = errno;
+      pid_ = p;
+      job_ = nullptr;
+      done_ = true;
+      cv_.notify_all();
+    }
+  }
+  std::mutex call_, m_;
+  std::condition_variable cv_;
+  const std::function<void()>* job_ = nullptr;
+  bool done_ = false;
+  pid_t pid_ = -1;
+  int err_ = 0;
+};
 
 int freePort() {
   const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -217,16 +272,10 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   if (::pipe2(errpipe, O_CLOEXEC) != 0)
     throw JsbsimError(std::string("JSBSim: pipe(): ") + std::strerror(errno));
   const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    const int e = errno;
-    ::close(errpipe[0]);
-    ::close(errpipe[1]);
-    throw JsbsimError(std::string("JSBSim: fork(): ") + std::strerror(e));
-  }
-  if (pid == 0) {
-    // The child: dies with the thread that started it, in its own process group, output to
-    // the log, no descriptor of the parent's but the exec-error pipe.
+  // The child: dies with the process that started it (PR_SET_PDEATHSIG from ForkThread's
+  // thread, which ends only with the process), in its own process group, output to the log,
+  // no descriptor of the parent's but the exec-error pipe.
+  const std::function<void()> child = [&] {
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(127);
     ::setpgid(0, 0);
@@ -251,6 +300,13 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
     ssize_t w = ::write(errpipe[1], &e, sizeof e);
     (void)w;
     ::_exit(127);
+  };
+  const pid_t pid = ForkThread::instance().fork(child);
+  if (pid < 0) {
+    const int e = errno;
+    ::close(errpipe[0]);
+    ::close(errpipe[1]);
+    throw JsbsimError(std::string("JSBSim: fork(): ") + std::strerror(e));
   }
   pid_ = pid;
   ::setpgid(pid, pid);  // (also in the child: whichever runs first)

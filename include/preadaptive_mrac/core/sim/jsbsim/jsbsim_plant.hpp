@@ -51,6 +51,7 @@ class JsbsimPlant : public PlantEngine {
   const FlightOutputs& flight() const override { return flight_; }
   void readFlight(bool on) override { read_flight_ = on; }
   double trimAirspeed() const override { return trim_.airspeed; }
+  void close() override { proc_.stop(); }
   const JsbsimTrim& trim() const { return trim_; }
   /// \brief Reads repeated because they came in the middle of a step (since start).
   std::int64_t rereads() const { return rereads_; }

@@ -39,9 +39,11 @@ std::string findJsbsimRoot(const std::string& configured, const std::string& air
 
 /// \brief One JSBSim process in socket lockstep, held between steps.
 ///
-/// The process is forked with PR_SET_PDEATHSIG (SIGKILL) in its own process group, so it
-/// dies with the thread that started it whatever ends that (an exception, Ctrl-C, SIGKILL);
-/// the destructor kills the group and reaps it. One connection per process (the server
+/// The process is forked with PR_SET_PDEATHSIG (SIGKILL) in its own process group from one
+/// thread that lives as long as the process (the signal follows the forking thread, and a
+/// nodelet's or a pool's thread may end before the run), so it dies with the process that
+/// started it whatever ends that (an exception, Ctrl-C, SIGKILL); the destructor kills the
+/// group and reaps it. One connection per process (the server
 /// serves one client, once); a fresh free port per process (a port is not reusable at once).
 class JsbsimProcess {
  public:
