@@ -38,8 +38,8 @@ import sys
 import threading
 import time
 
-_SPEC_RE = re.compile(r"^(/[A-Za-z0-9_~/\[\]:]*)$")
-_PART_RE = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[[0-9]+\])*)$")
+_SPEC_RE = re.compile(r'^(/[A-Za-z0-9_~/\[\]:]*)$')
+_PART_RE = re.compile(r'^([A-Za-z_][A-Za-z0-9_]*)((?:\[[0-9]+\])*)$')
 
 
 class SpecError(Exception):
@@ -49,43 +49,34 @@ class SpecError(Exception):
 def split_fields(rest):
     """'x[1]' -> [('x', [1])]; 'header/stamp' -> [('header', []), ('stamp', [])]."""
     path = []
-    for part in rest.split("/"):
+    for part in rest.split('/'):
         m = _PART_RE.match(part)
         if not m:
-            raise SpecError(
-                "'%s' is not a field name (letters, digits, _ and [index])" % part
-            )
-        path.append(
-            (m.group(1), [int(i) for i in re.findall(r"\[([0-9]+)\]", m.group(2))])
-        )
+            raise SpecError("'%s' is not a field name (letters, digits, _ and [index])" % part)
+        path.append((m.group(1), [int(i) for i in re.findall(r'\[([0-9]+)\]', m.group(2))]))
     return path
 
 
 def parse_spec(spec, topics):
     """rqt_plot syntax against the published topic names: returns (topic, [field path text,
-    ...]). Raises SpecError for a malformed spec; returns None when no topic matches yet.
-    """
-    if not _SPEC_RE.match(spec) or spec.endswith("/") or "//" in spec:
-        raise SpecError("%s: expected /TOPIC/FIELD, e.g. /plant/state/alpha" % spec)
+    ...]). Raises SpecError for a malformed spec; returns None when no topic matches yet."""
+    if not _SPEC_RE.match(spec) or spec.endswith('/') or '//' in spec:
+        raise SpecError('%s: expected /TOPIC/FIELD, e.g. /plant/state/alpha' % spec)
     best = None
     for t in topics:
-        if spec.startswith(t.rstrip("/") + "/") and (
-            best is None or len(t) > len(best)
-        ):
-            best = t.rstrip("/")
+        if spec.startswith(t.rstrip('/') + '/') and (best is None or len(t) > len(best)):
+            best = t.rstrip('/')
     if best is None:
         if spec in topics:
-            raise SpecError(
-                "%s: a topic, not a field of it; e.g. %s/FIELD" % (spec, spec)
-            )
+            raise SpecError('%s: a topic, not a field of it; e.g. %s/FIELD' % (spec, spec))
         return None
     rest = spec[len(best) + 1 :]
     # rqt_plot's "topic/field1:field2": alternatives share the path before the last '/'.
-    head, _, last = rest.rpartition("/")
-    fields = [(head + "/" + f) if head else f for f in last.split(":")]
+    head, _, last = rest.rpartition('/')
+    fields = [(head + '/' + f) if head else f for f in last.split(':')]
     for f in fields:
         if not f:
-            raise SpecError("%s: an empty field in a:b" % spec)
+            raise SpecError('%s: an empty field in a:b' % spec)
         split_fields(f)
     return best, fields
 
@@ -93,54 +84,48 @@ def parse_spec(spec, topics):
 def absolute_spec(spec, namespace):
     """A relative spec ('plant/state/alpha') joined to the node's namespace ('/run_a/'), as
     rospy resolves a relative topic name; an absolute one as it is."""
-    if spec.startswith("/"):
+    if spec.startswith('/'):
         return spec
-    return "/" + (namespace.strip("/") + "/" if namespace.strip("/") else "") + spec
+    return '/' + (namespace.strip('/') + '/' if namespace.strip('/') else '') + spec
 
 
 def field_names(msg):
-    return list(getattr(msg, "__slots__", []))
+    return list(getattr(msg, '__slots__', []))
 
 
 def resolve(msg, path, text, topic):
     """The value at `path` in `msg`, as a list of (label suffix, float)."""
     v = msg
     for name, idx in path:
-        if not hasattr(v, "__slots__") or name not in v.__slots__:
+        if not hasattr(v, '__slots__') or name not in v.__slots__:
             raise SpecError(
-                "%s/%s: %s has no field %s (its fields: %s)"
+                '%s/%s: %s has no field %s (its fields: %s)'
                 % (
                     topic,
                     text,
-                    getattr(v, "_type", type(v).__name__),
+                    getattr(v, '_type', type(v).__name__),
                     name,
-                    ", ".join(field_names(v)) or "none",
+                    ', '.join(field_names(v)) or 'none',
                 )
             )
         v = getattr(v, name)
         for i in idx:
             if not isinstance(v, (list, tuple, bytes)):
-                raise SpecError("%s/%s: %s is not an array" % (topic, text, name))
+                raise SpecError('%s/%s: %s is not an array' % (topic, text, name))
             if i >= len(v):
                 raise SpecError(
-                    "%s/%s: index %d outside %s (length %d)"
-                    % (topic, text, i, name, len(v))
+                    '%s/%s: index %d outside %s (length %d)' % (topic, text, i, name, len(v))
                 )
             v = v[i]
-    if hasattr(v, "to_sec"):  # rospy Time / Duration
-        return [("", v.to_sec())]
+    if hasattr(v, 'to_sec'):  # rospy Time / Duration
+        return [('', v.to_sec())]
     if isinstance(v, bool) or isinstance(v, (int, float)):
-        return [("", float(v))]
+        return [('', float(v))]
     if isinstance(v, (list, tuple)) and all(isinstance(x, (int, float)) for x in v):
-        return [("[%d]" % i, float(x)) for i, x in enumerate(v)]
+        return [('[%d]' % i, float(x)) for i, x in enumerate(v)]
     raise SpecError(
-        "%s/%s: not a number but %s; give a field of it (its fields: %s)"
-        % (
-            topic,
-            text,
-            getattr(v, "_type", type(v).__name__),
-            ", ".join(field_names(v)),
-        )
+        '%s/%s: not a number but %s; give a field of it (its fields: %s)'
+        % (topic, text, getattr(v, '_type', type(v).__name__), ', '.join(field_names(v)))
     )
 
 
@@ -165,14 +150,11 @@ class TopicFeed:
         self.sub = subscriber_class(topic, self.on_msg, 200, warn_label=None)
 
     def on_msg(self, msg):
-        h = getattr(msg, "header", None)
-        stamp = h.stamp.to_sec() if h is not None and hasattr(h, "stamp") else 0.0
+        h = getattr(msg, 'header', None)
+        stamp = h.stamp.to_sec() if h is not None and hasattr(h, 'stamp') else 0.0
         t = stamp if stamp > 0.0 else time.time()
         try:
-            values = [
-                (text, resolve(msg, path, text, self.topic))
-                for text, path in self.fields
-            ]
+            values = [(text, resolve(msg, path, text, self.topic)) for text, path in self.fields]
         except SpecError as e:
             self.plot.fail(str(e))
             return
@@ -202,7 +184,7 @@ class Plot:
             self.t_last = x if self.t_last is None else max(self.t_last, x)
             for text, items in values:
                 for suffix, v in items:
-                    label = "%s/%s%s" % (topic, text, suffix)
+                    label = '%s/%s%s' % (topic, text, suffix)
                     s = self.series.get(label)
                     if s is None:
                         s = self.series[label] = Series(label)
@@ -216,50 +198,50 @@ class Plot:
 
 def main(description=__doc__):
     ap = argparse.ArgumentParser(
-        prog="live_plot",
-        description=description.split("\n\n")[0],
+        prog='live_plot',
+        description=description.split('\n\n')[0],
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="\n".join(description.split("\n")[1:]),
+        epilog='\n'.join(description.split('\n')[1:]),
     )
-    ap.add_argument("specs", nargs="+", metavar="[/]TOPIC/FIELD")
-    ap.add_argument("--window", type=float, default=10.0)
-    ap.add_argument("--rate", type=float, default=10.0)
-    ap.add_argument("--duration", type=float, default=0.0)
-    ap.add_argument("--save", default="")
-    ap.add_argument("--headless", action="store_true")
-    ap.add_argument("--wait", type=float, default=0.0)
-    ap.add_argument("--title", default="")
+    ap.add_argument('specs', nargs='+', metavar='[/]TOPIC/FIELD')
+    ap.add_argument('--window', type=float, default=10.0)
+    ap.add_argument('--rate', type=float, default=10.0)
+    ap.add_argument('--duration', type=float, default=0.0)
+    ap.add_argument('--save', default='')
+    ap.add_argument('--headless', action='store_true')
+    ap.add_argument('--wait', type=float, default=0.0)
+    ap.add_argument('--title', default='')
     # roslaunch (plot:=true) appends __name:= and __log:= (and any remapping): left out, as
     # rospy.myargv does.
-    args = ap.parse_args([a for a in sys.argv[1:] if ":=" not in a])
-    for name in ("window", "rate"):
+    args = ap.parse_args([a for a in sys.argv[1:] if ':=' not in a])
+    for name in ('window', 'rate'):
         value = getattr(args, name)
         if not value > 0:
-            ap.exit(2, "live_plot: error: --%s: must be > 0, got %s\n" % (name, value))
-    for name in ("duration", "wait"):
+            ap.exit(2, 'live_plot: error: --%s: must be > 0, got %s\n' % (name, value))
+    for name in ('duration', 'wait'):
         value = getattr(args, name)
         if not value >= 0:
-            ap.exit(2, "live_plot: error: --%s: must be >= 0, got %s\n" % (name, value))
+            ap.exit(2, 'live_plot: error: --%s: must be >= 0, got %s\n' % (name, value))
     if args.headless and not args.save:
-        ap.exit(2, "live_plot: error: --headless draws no window: give --save PNG\n")
+        ap.exit(2, 'live_plot: error: --headless draws no window: give --save PNG\n')
     # Syntax first (no master needed), so a typo is refused at once.
     try:
         for s in args.specs:
-            parse_spec(absolute_spec(s, "/"), [])
+            parse_spec(absolute_spec(s, '/'), [])
     except SpecError as e:
-        ap.exit(2, "live_plot: error: %s\n" % e)
+        ap.exit(2, 'live_plot: error: %s\n' % e)
 
     import matplotlib
 
     if args.headless:
-        matplotlib.use("Agg")
+        matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     import rosgraph
     import rospy
 
     from preadaptive_mrac.viz.dynamic_msgs import DynamicSubscriber
 
-    rospy.init_node("live_plot", anonymous=True, disable_signals=True)
+    rospy.init_node('live_plot', anonymous=True, disable_signals=True)
     stop = threading.Event()
     signal.signal(signal.SIGINT, lambda *_: stop.set())
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
@@ -273,7 +255,7 @@ def main(description=__doc__):
     warned = False
 
     fig, ax = plt.subplots(figsize=(9, 5))
-    ax.set_xlabel("t [s] (from the first sample)")
+    ax.set_xlabel('t [s] (from the first sample)')
     ax.grid(True, alpha=0.3)
     if args.title:
         ax.set_title(args.title)
@@ -286,7 +268,7 @@ def main(description=__doc__):
         now = time.monotonic()
         if pending:
             try:
-                topics = [t for t, _ in master.getPublishedTopics("/")]
+                topics = [t for t, _ in master.getPublishedTopics('/')]
             except Exception:  # the master went away
                 topics = []
             for spec in list(pending):
@@ -305,15 +287,15 @@ def main(description=__doc__):
                 pending.remove(spec)
             if pending and now - start > 5.0 and not warned:
                 print(
-                    "live_plot: waiting for %s (no published topic is a prefix yet)"
-                    % ", ".join(pending),
+                    'live_plot: waiting for %s (no published topic is a prefix yet)'
+                    % ', '.join(pending),
                     file=sys.stderr,
                 )
                 warned = True
             if pending and args.wait > 0 and now - start > args.wait:
                 print(
-                    "live_plot: error: %s: no published topic is a prefix of it after %g s"
-                    % (", ".join(pending), args.wait),
+                    'live_plot: error: %s: no published topic is a prefix of it after %g s'
+                    % (', '.join(pending), args.wait),
                     file=sys.stderr,
                 )
                 rc = 1
@@ -326,7 +308,7 @@ def main(description=__doc__):
         for label, ts, vs in snapshot:
             if label not in lines:
                 (lines[label],) = ax.plot([], [], label=label, linewidth=1.5)
-                ax.legend(loc="upper left", fontsize="small")
+                ax.legend(loc='upper left', fontsize='small')
             lines[label].set_data(ts, vs)
         if t_last is not None:
             ax.set_xlim(max(0.0, t_last - args.window), max(t_last, args.window))
@@ -345,13 +327,13 @@ def main(description=__doc__):
         if args.duration > 0 and time.monotonic() - start >= args.duration:
             break
     if plot.error:
-        print("live_plot: error: %s" % plot.error, file=sys.stderr)
+        print('live_plot: error: %s' % plot.error, file=sys.stderr)
         rc = 2
     if args.save and rc != 2:
         fig.savefig(args.save, dpi=100)
-        print("live_plot: saved %s" % args.save)
+        print('live_plot: saved %s' % args.save)
     with plot.lock:
         for s in plot.series.values():
-            print("live_plot: %s: %d points" % (s.label, s.count))
-    rospy.signal_shutdown("done")
+            print('live_plot: %s: %d points' % (s.label, s.count))
+    rospy.signal_shutdown('done')
     sys.exit(rc)
