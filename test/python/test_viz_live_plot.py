@@ -1,12 +1,17 @@
 """preadaptive_mrac.viz.live_plot: rqt_plot's TOPIC/FIELD syntax and field resolution, on
 stand-in messages (no master, no window)."""
 
+import contextlib
+import io
+import sys
 import unittest
+from unittest import mock
 
 import pkg_path  # noqa: F401
 from preadaptive_mrac.viz.live_plot import (
     SpecError,
     absolute_spec,
+    main,
     parse_spec,
     resolve,
     split_fields,
@@ -83,6 +88,20 @@ class TestResolve(unittest.TestCase):
             resolve(self.msg, split_fields('x[5]'), 'x[5]', '/s')
         with self.assertRaisesRegex(SpecError, 'alpha is not an array'):
             resolve(self.msg, split_fields('alpha[0]'), 'alpha[0]', '/s')
+
+
+class TestCommandLine(unittest.TestCase):
+    def test_roslaunch_arguments_left_out(self):
+        # scenario.launch plot:=true starts live_plot as a node: roslaunch appends __name:= and
+        # __log:=. They must not be refused; the real error (--window 0) is the one reported.
+        argv = ['live_plot', 'plant/state/alpha', '--window', '0', '__name:=p', '__log:=/tmp/p.log']
+        err = io.StringIO()
+        with mock.patch.object(sys, 'argv', argv), contextlib.redirect_stderr(err):
+            with self.assertRaises(SystemExit) as e:
+                main()
+        self.assertEqual(e.exception.code, 2)
+        self.assertIn('--window: must be > 0', err.getvalue())
+        self.assertNotIn('unrecognized arguments', err.getvalue())
 
 
 if __name__ == '__main__':

@@ -211,7 +211,9 @@ def main(description=__doc__):
     ap.add_argument('--headless', action='store_true')
     ap.add_argument('--wait', type=float, default=0.0)
     ap.add_argument('--title', default='')
-    args = ap.parse_args()
+    # roslaunch (plot:=true) appends __name:= and __log:= (and any remapping): left out, as
+    # rospy.myargv does.
+    args = ap.parse_args([a for a in sys.argv[1:] if ':=' not in a])
     for name in ('window', 'rate'):
         value = getattr(args, name)
         if not value > 0:

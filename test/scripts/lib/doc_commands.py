@@ -22,8 +22,14 @@ SKIPS = [
     ),
     (r'^scripts/test\b', 'the whole test suite, which runs this test'),
     (r'^scripts/install_deps\b', 'apt-get as root: scripts/test and scripts/run_demo run it'),
+    (r'^sudo apt-get\b', 'apt-get as root: installing git, before the clone'),
     (
-        r'^(mkdir -p ~/catkin_ws|git clone|rosdep install|catkin_make|source devel/setup.bash)',
+        r'^git clone\b',
+        'the clone itself (the test runs in one); test/scripts/catkin_workspace.sh builds a '
+        'workspace from a clone',
+    ),
+    (
+        r'^(mkdir -p ~/catkin_ws|rosdep install|catkin_make|source devel/setup.bash)',
         'a catkin workspace from a clone: test/scripts/catkin_workspace.sh builds one',
     ),
     (

@@ -1,0 +1,72 @@
+"""scripts/install_deps --demo names what the package's own Python and the docs' commands need
+at run time. A fresh Debian 12 after `scripts/run_demo` lacked rosrun (ros-core only recommends
+rosbash, and install_deps installs without recommends) and geometry_msgs for Python (live_plot
+and viz_markers died); the development machine had both, so nothing else caught it."""
+
+import os
+import re
+import subprocess
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# Message modules the demo set brings without naming them: apt installs them with these.
+COMES_WITH = {
+    'std_msgs': 'python3-rospy depends on python3-std-msgs',
+    'rosgraph_msgs': 'python3-rospy depends on python3-rosgraph-msgs',
+}
+
+
+def demo_packages():
+    out = subprocess.run(
+        ['bash', os.path.join(ROOT, 'scripts', 'install_deps'), '--list'],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    return set(out.split())
+
+
+def imported_msg_modules():
+    """The ROS message packages the package's Python imports (src/preadaptive_mrac, scripts/)."""
+    files = []
+    for top, _, names in os.walk(os.path.join(ROOT, 'src', 'preadaptive_mrac')):
+        files += [os.path.join(top, n) for n in names if n.endswith('.py')]
+    scripts = os.path.join(ROOT, 'scripts')
+    for n in os.listdir(scripts):
+        path = os.path.join(scripts, n)
+        if os.path.isfile(path):
+            with open(path, encoding='utf-8', errors='replace') as f:
+                if 'python' in f.readline():
+                    files.append(path)
+    found = {}
+    for path in files:
+        with open(path, encoding='utf-8', errors='replace') as f:
+            for line in f:
+                m = re.match(r'\s*(?:from|import)\s+(\w+_msgs)\b', line)
+                if m:
+                    found.setdefault(m.group(1), os.path.relpath(path, ROOT))
+    return found
+
+
+class TestDemoSet(unittest.TestCase):
+    def test_rosrun_is_installed(self):
+        # the README and every tutorial use rosrun; it is in rosbash
+        self.assertIn('rosbash', demo_packages())
+
+    def test_every_imported_message_package(self):
+        pkgs = demo_packages()
+        modules = imported_msg_modules()
+        self.assertIn('geometry_msgs', modules)  # the scan finds what it must
+        for module, where in sorted(modules.items()):
+            if module in COMES_WITH:
+                continue
+            deb = 'python3-' + module.replace('_', '-')
+            self.assertIn(
+                deb,
+                pkgs,
+                '%s imports %s: %s is not in install_deps --demo' % (where, module, deb),
+            )
+
+
+if __name__ == '__main__':
+    unittest.main()
