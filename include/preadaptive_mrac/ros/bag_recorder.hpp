@@ -7,7 +7,6 @@
 /// hold every step.
 
 #include <ros/ros.h>
-#include <rosbag/bag.h>
 #include <topic_tools/shape_shifter.h>
 
 #include <cstdint>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/ros/bag_writer.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
 
@@ -97,7 +97,7 @@ class BagRecorder {
   std::string path_;           ///< the bag being written (final name, without `.active`)
   int index_ = 0;              ///< split number
   double opened_wall_ = 0.0;
-  rosbag::Bag bag_;
+  BagWriter bag_;  ///< rosbag's file format, each chunk written in one go
   std::vector<ros::Subscriber> subs_;
   ros::Publisher progress_pub_;
   int progress_every_ = 100;
