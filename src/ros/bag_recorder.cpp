@@ -329,8 +329,9 @@ std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx) {
 }
 
 int runBagRecorderNode() {
-  // One thread: each callback writes its message into the chunk in memory (BagWriter).
-  return spinProcessNode(makeBagRecorder);
+  // Callbacks in roscpp's receiving thread (InlineCallbackQueue), one at a time: each appends
+  // its message to the chunk in memory (BagWriter), without waking the main thread.
+  return spinProcessNode(makeBagRecorder, true);
 }
 
 }  // namespace ros1

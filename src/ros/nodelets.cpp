@@ -126,7 +126,11 @@ class CallbackNodelet : public ContextNodelet {
 
 using MracControllerNodelet =
     CallbackNodelet<MracControllerNode, makeMracControllerNode, InlineCallbackQueue>;
-using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder>;
+/// The recorder too: its callback (BagWriter: the message appended to the chunk in memory) runs
+/// in the publisher's thread, so a lockstep step hands the recorder its five messages without
+/// waking its thread (before: two futex wakes a message, the recorder's thread asleep and woken
+/// each time; docs/performance.md).
+using BagRecorderNodelet = CallbackNodelet<BagRecorder, makeBagRecorder, InlineCallbackQueue>;
 /// With the required flag it ends the manager when every plant has finished.
 using RunMonitorNodelet = CallbackNodelet<RunMonitor, makeRunMonitor>;
 
