@@ -13,7 +13,6 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <boost/make_shared.hpp>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -28,28 +27,18 @@
 namespace {
 
 namespace pm = preadaptive_mrac;
-
-template <class M>
-boost::shared_ptr<ros::M_string> connectionHeader(const std::string& topic,
-                                                  const std::string& callerid) {
-  return boost::make_shared<ros::M_string>(
-      ros::M_string{{"callerid", callerid},
-                    {"latching", "0"},
-                    {"md5sum", ros::message_traits::md5sum<M>()},
-                    {"message_definition", ros::message_traits::definition<M>()},
-                    {"topic", topic},
-                    {"type", ros::message_traits::datatype<M>()},
-                    {"tcp_nodelay", "1"}});
-}
+using pm::ros1::publisherConnectionHeader;
 
 /// Write `steps` lockstep steps into `bag` (rosbag::Bag or BagWriter: the same write call).
 template <class Bag>
 void writeRun(Bag& bag, std::uint64_t steps) {
-  const auto st_h = connectionHeader<pm::PlantState>("/plant/state", "/plant_sim");
-  const auto tr_h = connectionHeader<pm::PlantTruth>("/plant/truth", "/plant_sim");
-  const auto tf_h = connectionHeader<tf2_msgs::TFMessage>("/tf", "/plant_sim");
-  const auto cmd_h = connectionHeader<pm::ElevatorCommand>("/controller/elevator_cmd", "/ctl");
-  const auto ad_h = connectionHeader<pm::AdaptationStatus>("/controller/adaptation", "/ctl");
+  const auto st_h = publisherConnectionHeader<pm::PlantState>("/plant/state", "/plant_sim");
+  const auto tr_h = publisherConnectionHeader<pm::PlantTruth>("/plant/truth", "/plant_sim");
+  const auto tf_h = publisherConnectionHeader<tf2_msgs::TFMessage>("/tf", "/plant_sim");
+  const auto cmd_h =
+      publisherConnectionHeader<pm::ElevatorCommand>("/controller/elevator_cmd", "/ctl");
+  const auto ad_h =
+      publisherConnectionHeader<pm::AdaptationStatus>("/controller/adaptation", "/ctl");
   pm::PlantState st;
   st.x = {0.0, 0.0, 0.0};
   st.total_steps = steps;

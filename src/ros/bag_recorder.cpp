@@ -329,9 +329,10 @@ std::unique_ptr<BagRecorder> makeBagRecorder(const NodeContext& ctx) {
 }
 
 int runBagRecorderNode() {
-  // Callbacks in roscpp's receiving thread (InlineCallbackQueue), one at a time: each appends
-  // its message to the chunk in memory (BagWriter), without waking the main thread.
-  return spinProcessNode(makeBagRecorder, true);
+  // One thread: each callback appends its message to the chunk in memory (BagWriter). Not
+  // inline in roscpp's receiving thread, as the nodelet is in the publisher's: tried, and
+  // reconfigure.test then missed the recorder's last ~progress (1 run of 1; passes without).
+  return spinProcessNode(makeBagRecorder);
 }
 
 }  // namespace ros1

@@ -24,6 +24,7 @@ namespace {
 using preadaptive_mrac::ElevatorCommand;
 using preadaptive_mrac::PlantState;
 using preadaptive_mrac::ros1::BagWriter;
+using preadaptive_mrac::ros1::publisherConnectionHeader;
 
 std::vector<char> contents(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -32,19 +33,6 @@ std::vector<char> contents(const std::string& path) {
 
 std::string tmpPath(const std::string& name) {
   return ::testing::TempDir() + "pmrac_test_bag_writer_" + name + ".bag";
-}
-
-/// A subscriber's connection header for a publisher of M on `topic`.
-template <class M>
-boost::shared_ptr<ros::M_string> connectionHeader(const std::string& topic,
-                                                  const std::string& callerid) {
-  return boost::make_shared<ros::M_string>(
-      ros::M_string{{"callerid", callerid},
-                    {"latching", "0"},
-                    {"md5sum", ros::message_traits::md5sum<M>()},
-                    {"message_definition", ros::message_traits::definition<M>()},
-                    {"topic", topic},
-                    {"type", ros::message_traits::datatype<M>()}});
 }
 
 /// Writes the same messages into a rosbag::Bag and a BagWriter.
@@ -88,9 +76,10 @@ PlantState state(std::uint64_t k) {
 
 TEST(BagWriter, SameBytesAsRosbagOverManyChunks) {
   BothBags b("chunks", 4096);  // about 25 messages a chunk: many chunks and their indexes
-  const auto st_hdr = connectionHeader<PlantState>("/plant/state", "/plant");
-  const auto cmd_hdr = connectionHeader<ElevatorCommand>("/controller/elevator_cmd", "/ctl");
-  const auto tf_hdr = connectionHeader<tf2_msgs::TFMessage>("/tf", "/plant");
+  const auto st_hdr = publisherConnectionHeader<PlantState>("/plant/state", "/plant");
+  const auto cmd_hdr =
+      publisherConnectionHeader<ElevatorCommand>("/controller/elevator_cmd", "/ctl");
+  const auto tf_hdr = publisherConnectionHeader<tf2_msgs::TFMessage>("/tf", "/plant");
   for (std::uint64_t k = 0; k < 3000; ++k) {
     const PlantState st = state(k);
     b.write("/plant/state", st.header.stamp, st, st_hdr);
@@ -138,9 +127,9 @@ TEST(BagWriter, ConnectionsAsRosbagCountsThem) {
   // header's contents at another address (the same connection); a ShapeShifter.
   std_msgs::Float64 f;
   f.data = 2.5;
-  const auto a = connectionHeader<std_msgs::Float64>("/x", "/a");
+  const auto a = publisherConnectionHeader<std_msgs::Float64>("/x", "/a");
   const auto a_copy = boost::make_shared<ros::M_string>(*a);
-  const auto c = connectionHeader<std_msgs::Float64>("/x", "/c");
+  const auto c = publisherConnectionHeader<std_msgs::Float64>("/x", "/c");
   topic_tools::ShapeShifter shifter;
   {
     std::vector<std::uint8_t> buf(ros::serialization::serializationLength(f));

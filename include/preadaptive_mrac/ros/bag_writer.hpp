@@ -28,6 +28,22 @@
 namespace preadaptive_mrac {
 namespace ros1 {
 
+/// \brief The connection header a subscriber gets from a publisher of M on `topic` (its
+/// fields as roscpp sends them), for writing messages that did not come through a subscriber
+/// (test_ros_bag_writer, bench_bag_writer).
+template <class M>
+boost::shared_ptr<ros::M_string> publisherConnectionHeader(const std::string& topic,
+                                                           const std::string& callerid) {
+  return boost::shared_ptr<ros::M_string>(
+      new ros::M_string{{"callerid", callerid},
+                        {"latching", "0"},
+                        {"md5sum", ros::message_traits::md5sum<M>()},
+                        {"message_definition", ros::message_traits::definition<M>()},
+                        {"topic", topic},
+                        {"type", ros::message_traits::datatype<M>()},
+                        {"tcp_nodelay", "1"}});
+}
+
 class BagWriter {
  public:
   BagWriter() = default;
