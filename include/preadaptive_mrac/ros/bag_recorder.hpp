@@ -44,9 +44,9 @@ namespace ros1 {
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
-  /// Callbacks run wherever ctx.nh()'s queue is served, one at a time (the node and nodelet
-  /// use an InlineCallbackQueue: the publisher's or roscpp's receiving thread); each is short
-  /// (the message appended to the chunk in memory, a chunk's write once it is full).
+  /// Callbacks run wherever ctx.nh()'s queue is served, one at a time (a single-threaded
+  /// spinner, or the nodelet's thread polling its queue every millisecond); each is short (the
+  /// message appended to the chunk in memory, a chunk's write once it is full).
   BagRecorder(const NodeContext& ctx, const BagRecorderParams& params);
   /// \brief finish().
   ~BagRecorder();
