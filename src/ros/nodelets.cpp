@@ -108,6 +108,9 @@ class CallbackNodelet : public ContextNodelet {
   ~CallbackNodelet() override {
     if (ctx_) ctx_->stop();
     if (thread_.joinable()) thread_.join();
+    // A polling thread leaves what came since its last poll: taken now, so that the recorder
+    // closes its bag with every message it received (Ctrl-C, a plant that ended early).
+    if (kPollUs > 0 && node_) queue_.callAvailable(ros::WallDuration());
     if (node_) node_->finish();
   }
 
