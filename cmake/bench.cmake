@@ -27,3 +27,10 @@ add_executable(bench_jsbsim bench/bench_jsbsim.cpp)
 target_link_libraries(bench_jsbsim preadaptive_mrac_io)
 set_target_properties(bench_jsbsim PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# The recorder's writing alone (no ROS communication): rosbag::Bag against BagWriter on a
+# lockstep run's messages (docs/performance.md).
+add_executable(bench_bag_writer bench/bench_bag_writer.cpp)
+target_link_libraries(bench_bag_writer preadaptive_mrac_ros)
+set_target_properties(bench_bag_writer PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -29,6 +29,7 @@ add_library(preadaptive_mrac_ros
   src/ros/attention_msg.cpp
   src/ros/run_monitor.cpp
   src/ros/bag_recorder.cpp
+  src/ros/bag_writer.cpp
   src/ros/controller_reconfigure.cpp)
 target_link_libraries(preadaptive_mrac_ros PUBLIC preadaptive_mrac_ros_params ${catkin_LIBRARIES})
 add_dependencies(preadaptive_mrac_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)

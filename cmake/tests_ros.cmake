@@ -17,6 +17,9 @@ if(CATKIN_ENABLE_TESTING)
   # at a time, timers and waiting ones on the queue's thread, in order.
   catkin_add_gtest(test_ros_inline_queue test/ros/test_inline_queue.cpp)
   target_link_libraries(test_ros_inline_queue preadaptive_mrac_ros gtest_main)
+  # BagWriter: the same file as rosbag::Bag writes for the same calls, byte for byte.
+  catkin_add_gtest(test_ros_bag_writer test/ros/test_bag_writer.cpp)
+  target_link_libraries(test_ros_bag_writer preadaptive_mrac_ros gtest_main)
 
   # Lockstep against the batch CLI, one registration per mode and shape (same .test, args):
   # the paper's modes, pa_robust (its DECISION events and verification fields) and the oracle

@@ -30,7 +30,7 @@ done
 # find_node still finds the nodes once. The executables: those of the devel space's
 # lib/preadaptive_mrac but the tests and the benchmarks (bench_*, wakeup_floor), and launch_checked.
 exes=$(find -L "$BUILD/devel/lib/preadaptive_mrac" -maxdepth 1 -type f -perm /111 -printf '%f\n' |
-  grep -v -e '^test_' -e '^bench_controller$' -e '^wakeup_floor$' -e '^bench_jsbsim$' | sort)
+  grep -v -e '^test_' -e '^bench_controller$' -e '^wakeup_floor$' -e '^bench_jsbsim$' -e '^bench_bag_writer$' | sort)
 n=0
 for exe in $exes launch_checked; do
   found=$(cd / && rosrun --prefix echo preadaptive_mrac "$exe" </dev/null 2>&1)

@@ -7,7 +7,6 @@
 /// hold every step.
 
 #include <ros/ros.h>
-#include <rosbag/bag.h>
 #include <topic_tools/shape_shifter.h>
 
 #include <cstdint>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/PlantState.h"
+#include "preadaptive_mrac/ros/bag_writer.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
 
@@ -44,8 +44,9 @@ namespace ros1 {
 class BagRecorder {
  public:
   /// \brief Opens the bag (creating its directory) and subscribes; throws on failure.
-  /// Callbacks run wherever ctx.nh()'s queue is served (one at a time: a single-threaded
-  /// spinner, or a nodelet's single-threaded queue).
+  /// Callbacks run wherever ctx.nh()'s queue is served, one at a time (a single-threaded
+  /// spinner, or the nodelet's thread polling its queue every millisecond); each is short (the
+  /// message appended to the chunk in memory, a chunk's write once it is full).
   BagRecorder(const NodeContext& ctx, const BagRecorderParams& params);
   /// \brief finish().
   ~BagRecorder();
@@ -97,7 +98,7 @@ class BagRecorder {
   std::string path_;           ///< the bag being written (final name, without `.active`)
   int index_ = 0;              ///< split number
   double opened_wall_ = 0.0;
-  rosbag::Bag bag_;
+  BagWriter bag_;  ///< rosbag's file format, each chunk written in one go
   std::vector<ros::Subscriber> subs_;
   ros::Publisher progress_pub_;
   int progress_every_ = 100;
