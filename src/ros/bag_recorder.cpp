@@ -81,7 +81,10 @@ BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params
   // Advertised last: a plant that sees this publisher knows every subscription above exists
   // (in a nodelet manager, where subscribers in one process share one connection and cannot be
   // counted, that is how the plant knows the recorder is ready before step 0).
-  progress_pub_ = ctx.pnh().advertise<RecorderProgress>("progress", 100);
+  // Unbounded (0): one topic's progress must not push another's last step out of the queue.
+  // With a bounded queue a fast recorder's burst of status progress dropped the states' and
+  // commands' last ones on their way to a slow subscriber (reconfigure.test, 1 run in 3).
+  progress_pub_ = ctx.pnh().advertise<RecorderProgress>("progress", 0);
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
 }
 

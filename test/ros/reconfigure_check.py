@@ -162,7 +162,11 @@ class ReconfigureTest(unittest.TestCase):
             with self.lock:
                 return all(self.recorded.get(t, -1) >= STEPS - 1 for t in RECORDED)
 
-        wait_for(recorded, 120, "the recorder's last step of " + ", ".join(RECORDED))
+        try:
+            wait_for(recorded, 120, "the recorder's last step of " + ", ".join(RECORDED))
+        except AssertionError as e:
+            with self.lock:
+                raise AssertionError("%s; the recorder's last steps: %r" % (e, self.recorded))
         rosnode.kill_nodes(["/recorder"])
         wait_for(lambda: os.path.exists(bag_path), 60, "the closed bag " + bag_path)
 
