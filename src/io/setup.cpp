@@ -234,6 +234,15 @@ std::string scenarioToYaml(const Scenario& sc) {
     for (const auto& seg : sc.effectiveness)
       os << "    - {until: " << num(seg.until) << ", value: " << num(seg.value) << "}\n";
   }
+  if (!sc.faults.empty()) {
+    os << "  faults:\n";
+    for (const auto& seg : sc.faults) {
+      os << "    - {until: " << num(seg.until);
+      for (const auto& key : Scenario::kFaultKeys)
+        os << ", " << key.name << ": " << num(seg.*key.field);
+      os << "}\n";
+    }
+  }
   return os.str();
 }
 

@@ -39,7 +39,10 @@ const char* kAbout =
     "whose alpha and q rows of A and entries of B are each scaled by a factor uniform in [1 - M, "
     "1 + M] (drawn per scenario from the family seed, the rest of the family unchanged), while "
     "the controller designs on the nominal plant (controller.model); runs.jsonl records each "
-    "scenario's true A and B and the factors (docs/mismatch.md). Exit code 2 on bad input.";
+    "scenario's true A and B and the factors (docs/mismatch.md). --faults (plant.engine jsbsim "
+    "only) gives each regime physical faults of the aircraft, drawn per regime from the family "
+    "seed like --effectiveness LO:HI, the first segment nominal (docs/jsbsim.md). Exit code 2 on "
+    "bad input.";
 
 // "LO:HI" of a condition flag, each end within [min, max] (min excluded when min_open).
 ConditionRange parseRange(const std::string& flag, const std::string& text, double min,
@@ -58,6 +61,38 @@ ConditionRange parseRange(const std::string& flag, const std::string& text, doub
     throw cli::UsageError(flag + ": both ends must be " + within + ", got '" + text + "'");
   }
   return r;
+}
+
+// --faults "KEY=V|KEY=LO:HI,...", KEY from Scenario::kFaultKeys, each within the key's range.
+FaultRanges parseFaults(const std::string& text) {
+  std::string names;
+  for (const auto& k : Scenario::kFaultKeys)
+    names += (names.empty() ? "" : ", ") + std::string(k.name);
+  FaultRanges out;
+  std::vector<bool> given(Scenario::kFaultKeys.size(), false);
+  for (const auto& item : cli::splitTopLevel(text)) {
+    const size_t eq = item.find('=');
+    size_t j = 0;
+    while (j < Scenario::kFaultKeys.size() && item.substr(0, eq) != Scenario::kFaultKeys[j].name)
+      ++j;
+    if (eq == std::string::npos || j == Scenario::kFaultKeys.size())
+      throw cli::UsageError("--faults: expected KEY=VALUE or KEY=LO:HI with KEY one of " + names +
+                            ", got '" + item + "'");
+    if (given[j]) throw cli::UsageError("--faults: " + item.substr(0, eq) + " given twice");
+    given[j] = true;
+    const auto& key = Scenario::kFaultKeys[j];
+    const std::string flag = "--faults " + item.substr(0, eq), value = item.substr(eq + 1);
+    ConditionRange& r = out.range[j];
+    if (value.find(':') != std::string::npos) {
+      r = parseRange(flag, value, key.lo, false, key.hi);
+    } else {
+      r.lo = r.hi = cli::parseDouble(flag, value);
+      if (!(r.lo >= key.lo && r.lo <= key.hi))
+        throw cli::UsageError(flag + ": " + key.what + " must be in [" + formatNumber(key.lo) +
+                              ", " + formatNumber(key.hi) + "], got '" + value + "'");
+    }
+  }
+  return out;
 }
 
 struct Job {
@@ -84,7 +119,7 @@ int main(int argc, char** argv) {
     CLI::App app{kAbout, "preadapt_family"};
     cli::RunOptionText text;
     std::string seed_t, count_t, modes_t, noise_t, regimes_t, segments_t, ref_t, jobs_t;
-    std::string delay_t, lag_t, lambda_t, gust_t, mismatch_t;
+    std::string delay_t, lag_t, lambda_t, gust_t, mismatch_t, faults_t;
     cli::addRunOptions(app, &base, &text, false);
     cli::addText(app, "--seed", &seed_t, "the family's generator seed (required)");
     cli::addText(app, "--count", &count_t, "scenarios (default 30)");
@@ -111,6 +146,12 @@ int main(int argc, char** argv) {
                  "model mismatch M in [0, 1): the true plant's alpha and q rows of A and B "
                  "scaled per entry by factors uniform in [1 - M, 1 + M], drawn per scenario; the "
                  "controller keeps the nominal model (default 0: the plant is the model)");
+    cli::addText(app, "--faults", &faults_t,
+                 "physical faults of the JSBSim aircraft (plant.engine jsbsim only), drawn per "
+                 "regime (the first segment nominal): comma-separated KEY=VALUE or KEY=LO:HI, "
+                 "KEY cg_shift (fraction of the chord, + aft, in [-0.3, 0.3]), "
+                 "elevator_effectiveness or pitch_damping (multipliers in [0, 2]), e.g. "
+                 "cg_shift=0:0.05,elevator_effectiveness=0.5:1,pitch_damping=0.3:1");
     cli::addText(app, "--out-dir", &out_dir, "write the scenarios and every run's JSON here");
     app.add_flag("--json", json, "also print one JSON line per mode with every ratio");
     cli::addText(app, "--jobs", &jobs_t, "threads (default: all cores)");
@@ -188,6 +229,12 @@ int main(int argc, char** argv) {
         conditions += (conditions.empty() ? "" : ", ") + std::string("model mismatch ") +
                       mismatch_t + " (per scenario)";
     }
+    std::optional<FaultRanges> faults;
+    if (!faults_t.empty()) {
+      faults = parseFaults(faults_t);
+      conditions += (conditions.empty() ? "" : ", ") + std::string("faults ") + faults_t +
+                    " (per regime, the first segment nominal)";
+    }
     if (spec.regimes < 1 || spec.regimes > 50) throw cli::UsageError("--regimes: expected 1..50");
     if (spec.segments < 2 * spec.regimes || spec.segments > 1000)
       throw cli::UsageError("--segments: expected 2 * regimes .. 1000");
@@ -201,6 +248,11 @@ int main(int argc, char** argv) {
     spec.n = prepared.cfg.plant.n();
     if (!mismatch_t.empty() && (spec.n < 3 || prepared.cfg.plant.output_index != 1))
       throw cli::UsageError("--mismatch: needs the plant's x = [e_I, alpha, q] (output_index 1)");
+    if (faults && prepared.cfg.plant.engine != PlantEngineKind::kJsbsim)
+      throw cli::UsageError(
+          "--faults: physical faults (CG shift, elevator effectiveness, pitch damping) need "
+          "plant.engine jsbsim (add --set plant.engine=jsbsim); the linear model has no CG or "
+          "aerodynamics (use --effectiveness on it)");
     if (!out_dir.empty()) ::mkdir(out_dir.c_str(), 0755);
 
     std::vector<Scenario> scenarios;
@@ -232,6 +284,22 @@ int main(int argc, char** argv) {
           auto it = span.emplace("effectiveness", std::make_pair(seg.value, seg.value)).first;
           it->second = {std::min(it->second.first, seg.value),
                         std::max(it->second.second, seg.value)};
+        }
+      }
+      if (faults) {
+        auto& sc = scenarios.back();
+        sc.faults = regimeFaults(sc, *faults, *seed, k);
+        auto& list = drawn[static_cast<size_t>(k)]["faults"] = nlohmann::ordered_json::array();
+        for (size_t i = 0; i < sc.faults.size(); ++i) {
+          auto& seg = list.emplace_back(nlohmann::ordered_json::object());
+          for (const auto& key : Scenario::kFaultKeys) {
+            const double v = sc.faults[i].*key.field;
+            seg[key.name] = v;
+            if (i == 0) continue;  // the first segment's nominal aircraft
+            const std::string name = std::string("fault ") + key.name;
+            auto it = span.emplace(name, std::make_pair(v, v)).first;
+            it->second = {std::min(it->second.first, v), std::max(it->second.second, v)};
+          }
         }
       }
       const auto delay = draw(k, delay_r, 1, "plant.actuator.delay");
@@ -329,6 +397,7 @@ int main(int argc, char** argv) {
             info.mode = job.mode;
             info.seed = job.cfg.controller.seed;
             info.dt = opt.dt;
+            info.overrides = prepared.info.overrides;  // every run's --set (and fixed conditions)
             job.json = runSummaryJson(info, ctl, res);
             const auto& d = drawn[static_cast<size_t>(job.scenario)];
             if (!d.empty()) {

@@ -95,6 +95,87 @@ TEST(Family, EffectivenessPerRegimeFirstSegmentOne) {
   }
 }
 
+// Issue 36: --faults draws one set of physical faults per regime (the first segment nominal),
+// each key within its range, deterministic per (seed, scenario); a key given as one value is
+// that value in every regime, a key not given stays nominal; the schedule reads back from YAML.
+TEST(Family, FaultsPerRegimeInRangeDeterministically) {
+  FamilySpec spec;
+  FaultRanges ranges;
+  ranges.range[0] = {-0.05, 0.1};  // cg_shift
+  ranges.range[1] = {0.5, 1.0};    // elevator_effectiveness
+  // pitch_damping not given: nominal 1
+  FaultRanges fixed;
+  fixed.range[2] = {0.4, 0.4};  // pitch_damping, one value
+  ASSERT_EQ(Scenario::kFaultKeys[0].name, std::string("cg_shift"));
+  ASSERT_EQ(Scenario::kFaultKeys[1].name, std::string("elevator_effectiveness"));
+  ASSERT_EQ(Scenario::kFaultKeys[2].name, std::string("pitch_damping"));
+  double lo[2] = {1.0, 1.0}, hi[2] = {-1.0, -1.0};
+  for (int k = 0; k < 30; ++k) {
+    const Scenario s = recurringScenario(spec, 77, k);
+    const auto f = regimeFaults(s, ranges, 77, k);
+    ASSERT_EQ(f.size(), s.theta.size());
+    EXPECT_EQ(f[0].cg_shift, 0.0);
+    EXPECT_EQ(f[0].elevator_effectiveness, 1.0);
+    EXPECT_EQ(f[0].pitch_damping, 1.0);
+    std::map<std::vector<double>, std::vector<double>> of;
+    for (size_t i = 0; i < s.theta.size(); ++i) {
+      EXPECT_EQ(f[i].until, s.theta[i].until);
+      if (i == 0) continue;
+      const double v[2] = {f[i].cg_shift, f[i].elevator_effectiveness};
+      for (int j = 0; j < 2; ++j) {
+        EXPECT_GE(v[j], ranges.range[static_cast<size_t>(j)].lo);
+        EXPECT_LE(v[j], ranges.range[static_cast<size_t>(j)].hi);
+        lo[j] = std::min(lo[j], v[j]);
+        hi[j] = std::max(hi[j], v[j]);
+      }
+      EXPECT_EQ(f[i].pitch_damping, 1.0) << "a key not given must stay nominal";
+      EXPECT_NE(f[i].cg_shift, f[i].elevator_effectiveness);  // each key its own draw
+      const auto& th = s.theta[i].theta;
+      const auto key = std::vector<double>(th.data(), th.data() + th.size());
+      const std::vector<double> val = {v[0], v[1]};
+      if (of.count(key) == 0) of[key] = val;
+      EXPECT_EQ(of[key], val) << "a revisited regime, other faults";
+    }
+    EXPECT_EQ(of.size(), static_cast<size_t>(spec.regimes)) << "regimes share their faults";
+    const auto again = regimeFaults(s, ranges, 77, k);
+    for (size_t i = 0; i < f.size(); ++i) {
+      EXPECT_EQ(again[i].cg_shift, f[i].cg_shift);
+      EXPECT_EQ(again[i].elevator_effectiveness, f[i].elevator_effectiveness);
+    }
+    const auto one = regimeFaults(s, fixed, 77, k);
+    for (size_t i = 1; i < one.size(); ++i) {
+      EXPECT_EQ(one[i].pitch_damping, 0.4);
+      EXPECT_EQ(one[i].cg_shift, 0.0);
+      EXPECT_EQ(one[i].elevator_effectiveness, 1.0);
+    }
+    EXPECT_EQ(one[0].pitch_damping, 1.0);
+  }
+  EXPECT_LT(lo[0], -0.02);  // spread over the ranges, not stuck at one end
+  EXPECT_GT(hi[0], 0.07);
+  EXPECT_LT(lo[1], 0.6);
+  EXPECT_GT(hi[1], 0.9);
+  const Scenario s = recurringScenario(spec, 77, 0);
+  EXPECT_NE(regimeFaults(s, ranges, 77, 0)[1].cg_shift, regimeFaults(s, ranges, 78, 0)[1].cg_shift);
+  EXPECT_NE(regimeFaults(s, ranges, 77, 0)[1].cg_shift, regimeFaults(s, ranges, 77, 1)[1].cg_shift);
+  // The draw moves no other value of the family: the Lambdas per regime are their own streams.
+  const ConditionRange lambda{0.4, 1.0};
+  EXPECT_EQ(regimeEffectiveness(s, lambda, 77, 0)[1].value, drawCondition(lambda, 77, 0, 1000));
+  // Written and read back exactly (preadapt_family --out-dir's scenario files).
+  Scenario with = s;
+  with.faults = regimeFaults(s, ranges, 77, 0);
+  const ParamValue tree = parseYaml(scenarioToYaml(with), "family");
+  ParamReader r(tree);
+  const Scenario back = Scenario::read(r, 3);
+  ASSERT_TRUE(r.ok()) << ConfigError(r.problems()).what();
+  ASSERT_EQ(back.faults.size(), with.faults.size());
+  for (size_t i = 0; i < with.faults.size(); ++i) {
+    EXPECT_EQ(back.faults[i].until, with.faults[i].until);
+    EXPECT_EQ(back.faults[i].cg_shift, with.faults[i].cg_shift);
+    EXPECT_EQ(back.faults[i].elevator_effectiveness, with.faults[i].elevator_effectiveness);
+    EXPECT_EQ(back.faults[i].pitch_damping, with.faults[i].pitch_damping);
+  }
+}
+
 TEST(Family, YamlReadsBackExactly) {
   FamilySpec spec;
   spec.ref_every = 7.0;
@@ -228,6 +309,51 @@ TEST(FamilyTool, MismatchIsDeterministicAndZeroIsTheFamily) {
   EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --mismatch 1", &out), 2);
   EXPECT_NE(out.find("--mismatch: expected M in [0, 1)"), std::string::npos) << out;
   EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --mismatch -0.1", &out), 2);
+}
+
+// Issue 36: runs.jsonl records the overrides every run was made with (--set, and a condition
+// flag given as one value); it was empty whatever --set said.
+TEST(FamilyTool, RunsRecordTheirOverrides) {
+  const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_overrides";
+  std::string out;
+  ASSERT_EQ(runTool("--seed 3 --count 1 --segments 6 --modes rac --jobs 1 --out-dir " + dir +
+                        " --set controller.attention.c_e=0.006 --delay 0.01",
+                    &out),
+            0)
+      << out;
+  std::ifstream runs(dir + "/runs.jsonl");
+  std::string line;
+  ASSERT_TRUE(static_cast<bool>(std::getline(runs, line)));
+  EXPECT_NE(line.find("\"overrides\":[\"controller.attention.c_e=0.006\","
+                      "\"plant.actuator.delay=0.01\"]"),
+            std::string::npos)
+      << line.substr(0, 300);
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 36: --faults is refused, naming the flag, on the linear plant and for bad text.
+TEST(FamilyTool, FaultsRefusedNamingTheFlag) {
+  std::string out;
+  const std::string jsb = " --set plant.engine=jsbsim";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--faults cg_shift=0:0.05",
+       "--faults: physical faults (CG shift, elevator effectiveness, "
+       "pitch damping) need plant.engine jsbsim"},
+      {"--faults cgshift=0:0.05" + jsb, "--faults: expected KEY=VALUE or KEY=LO:HI with KEY one"},
+      {"--faults cg_shift" + jsb, "--faults: expected KEY=VALUE or KEY=LO:HI"},
+      {"--faults cg_shift=0.5" + jsb,
+       "--faults cg_shift: the CG shift [fraction of the chord, "
+       "+ aft] must be in [-0.3, 0.3], got '0.5'"},
+      {"--faults pitch_damping=0.5:3" + jsb, "--faults pitch_damping: both ends must be in [0, 2]"},
+      {"--faults elevator_effectiveness=1:0.5" + jsb,
+       "--faults elevator_effectiveness: a range LO:HI needs LO < HI"},
+      {"--faults pitch_damping=x" + jsb, "--faults pitch_damping: expected a finite number"},
+      {"--faults pitch_damping=1,pitch_damping=0.5" + jsb, "--faults: pitch_damping given twice"},
+  };
+  for (const auto& c : cases) {
+    EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac " + c.first, &out), 2) << c.first;
+    EXPECT_NE(out.find(c.second), std::string::npos) << c.first << "\n" << out;
+  }
 }
 
 TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {

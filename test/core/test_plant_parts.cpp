@@ -337,6 +337,32 @@ TEST(Config, ConditionsAreValidatedNamingTheKey) {
             std::string::npos);
 }
 
+// Issue 36: the physical fault schedule's keys (Scenario::kFaultKeys) refused out of range
+// naming the key, and on the linear plant naming the section.
+TEST(Config, FaultsAreValidatedNamingTheKey) {
+  ParamValue t = test::packageTree("1");
+  t.setPath("plant.engine", ParamValue::makeString("jsbsim"));
+  t.setPath(
+      "scenario.faults",
+      ParamValue::makeList({segment(20.0, "cg_shift", 0.5), segment(40.0, "pitch_damping", -1.0),
+                            segment(60.0, "elevator_effectiveness", 2.5)}));
+  const std::string all = problems(t);
+  for (const char* key :
+       {"scenario.faults.0.cg_shift: the CG shift [fraction of the chord, + aft] must be in "
+        "[-0.3, 0.3], got 0.5",
+        "scenario.faults.1.pitch_damping: the pitch damping multiplier must be in [0, 2], got -1",
+        "scenario.faults.2.elevator_effectiveness: the elevator effectiveness multiplier must be "
+        "in [0, 2], got 2.5"})
+    EXPECT_NE(all.find(key), std::string::npos) << key << "\n" << all;
+  t.setPath("scenario.faults", ParamValue::makeList({segment(60.0, "cg_shift", 0.05)}));
+  EXPECT_EQ(problems(t), "");
+  t.setPath("plant.engine", ParamValue::makeString("linear"));
+  EXPECT_NE(problems(t).find("scenario.faults: physical faults (CG shift, elevator effectiveness, "
+                             "pitch damping) need plant.engine jsbsim"),
+            std::string::npos)
+      << problems(t);
+}
+
 // The plant's scalars read from params/plant.yaml's generated structs (issue 21): NaN and inf
 // are refused naming the key wherever the hand-written reader refused them (it said "finite").
 TEST(Config, PlantScalarsRefuseNanAndInfNamingTheKey) {

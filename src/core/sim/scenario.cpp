@@ -7,6 +7,13 @@
 
 namespace preadaptive_mrac {
 
+const std::array<Scenario::FaultKey, 3> Scenario::kFaultKeys = {{
+    {"cg_shift", -0.3, 0.3, &FaultSegment::cg_shift, "the CG shift [fraction of the chord, + aft]"},
+    {"elevator_effectiveness", 0.0, 2.0, &FaultSegment::elevator_effectiveness,
+     "the elevator effectiveness multiplier"},
+    {"pitch_damping", 0.0, 2.0, &FaultSegment::pitch_damping, "the pitch damping multiplier"},
+}};
+
 double Scenario::endTime() const { return theta.empty() ? 0.0 : theta.back().until; }
 
 namespace {
@@ -132,18 +139,15 @@ Scenario Scenario::read(ParamReader& r, int n, const std::string& prefix) {
   const std::string fk = prefix + ".faults";
   if (r.has(fk)) {
     sc.faults = readSegments<FaultSegment>(r, fk, [&](const std::string& seg, FaultSegment* s) {
-      auto opt = [&](const char* key, double* v, double lo, double hi, const char* what) {
-        const std::string k = seg + key;
-        if (!r.has(k)) return;
-        *v = r.getDouble(k);
-        if (r.usable(k) && !(*v >= lo && *v <= hi))
-          r.fail(k, std::string(what) + " must be in [" + formatNumber(lo) + ", " +
-                        formatNumber(hi) + "], got " + formatNumber(*v));
-      };
-      opt(".cg_shift", &s->cg_shift, -0.3, 0.3, "the CG shift [fraction of the chord, + aft]");
-      opt(".elevator_effectiveness", &s->elevator_effectiveness, 0.0, 2.0,
-          "the elevator effectiveness multiplier");
-      opt(".pitch_damping", &s->pitch_damping, 0.0, 2.0, "the pitch damping multiplier");
+      for (const FaultKey& f : kFaultKeys) {
+        const std::string k = seg + "." + f.name;
+        if (!r.has(k)) continue;
+        double& v = s->*f.field;
+        v = r.getDouble(k);
+        if (r.usable(k) && !(v >= f.lo && v <= f.hi))
+          r.fail(k, std::string(f.what) + " must be in [" + formatNumber(f.lo) + ", " +
+                        formatNumber(f.hi) + "], got " + formatNumber(v));
+      }
     });
     if (!sc.faults.empty() && !sc.theta.empty() && sc.faults.back().until < sc.endTime())
       r.fail(fk, "the last fault segment must reach the scenario end " +

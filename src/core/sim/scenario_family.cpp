@@ -111,26 +111,68 @@ PlantMismatch mismatchedPlant(const Eigen::MatrixXd& A, const Eigen::VectorXd& B
   return out;
 }
 
+namespace {
+// Per theta segment, the order in which its regime (its theta) first appeared after the first
+// segment (0, 1, ...), or -1 for the first segment and any segment with its theta.
+std::vector<int> regimeOrdinals(const Scenario& s) {
+  std::vector<int> out;
+  std::vector<std::pair<Eigen::VectorXd, int>> seen;
+  int draws = 0;
+  for (size_t i = 0; i < s.theta.size(); ++i) {
+    const Eigen::VectorXd& th = s.theta[i].theta;
+    int ordinal = -1;
+    bool found = false;
+    for (const auto& kv : seen)
+      if (kv.first == th) {
+        ordinal = kv.second;
+        found = true;
+      }
+    if (!found) {
+      if (i > 0) ordinal = draws++;
+      seen.emplace_back(th, ordinal);
+    }
+    out.push_back(ordinal);
+  }
+  return out;
+}
+}  // namespace
+
 std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
                                                                 const ConditionRange& range,
                                                                 std::uint64_t seed, int index) {
   std::vector<Scenario::EffectivenessSegment> out;
-  std::vector<std::pair<Eigen::VectorXd, double>> seen;
-  int draws = 0;
+  const std::vector<int> regime = regimeOrdinals(s);
   for (size_t i = 0; i < s.theta.size(); ++i) {
-    const Eigen::VectorXd& th = s.theta[i].theta;
-    double lambda = 1.0;  // the first segment: the trim before any regime
-    bool found = false;
-    for (const auto& kv : seen)
-      if (kv.first == th) {
-        lambda = kv.second;
-        found = true;
-      }
-    if (!found) {
-      if (i > 0) lambda = drawCondition(range, seed, index, 1000 + draws++);
-      seen.emplace_back(th, lambda);
-    }
+    // The first segment: the trim before any regime.
+    const double lambda =
+        regime[i] < 0
+            ? 1.0
+            : drawCondition(range, seed, index, 1000 + static_cast<std::uint64_t>(regime[i]));
     out.push_back({s.theta[i].until, lambda});
+  }
+  return out;
+}
+
+FaultRanges::FaultRanges() {
+  const Scenario::FaultSegment nominal{};
+  for (size_t j = 0; j < range.size(); ++j) {
+    const double v = nominal.*Scenario::kFaultKeys[j].field;
+    range[j] = {v, v};
+  }
+}
+
+std::vector<Scenario::FaultSegment> regimeFaults(const Scenario& s, const FaultRanges& ranges,
+                                                 std::uint64_t seed, int index) {
+  std::vector<Scenario::FaultSegment> out;
+  const std::vector<int> regime = regimeOrdinals(s);
+  for (size_t i = 0; i < s.theta.size(); ++i) {
+    Scenario::FaultSegment seg{};
+    seg.until = s.theta[i].until;
+    if (regime[i] >= 0)  // the first segment: the nominal aircraft it was trimmed as
+      for (size_t j = 0; j < ranges.range.size(); ++j)
+        seg.*Scenario::kFaultKeys[j].field = drawCondition(
+            ranges.range[j], seed, index, 3000 + 3 * static_cast<std::uint64_t>(regime[i]) + j);
+    out.push_back(seg);
   }
   return out;
 }

@@ -2,6 +2,7 @@
 /// \file scenario.hpp
 /// \brief Piecewise-constant schedules of theta(t) and r(t) (config/scenarios/*.yaml).
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,16 @@ struct Scenario : ScenarioParams {
     double until;
     double cg_shift = 0.0, elevator_effectiveness = 1.0, pitch_damping = 1.0;
   };
+  /// \brief One key of a fault segment: its name, its allowed range [lo, hi], its field and
+  /// what it is (the reader's message); nominal = the field's default.
+  struct FaultKey {
+    const char* name;
+    double lo, hi;
+    double FaultSegment::*field;
+    const char* what;
+  };
+  /// The fault keys in a fixed order (read by Scenario::read, drawn by preadapt_family --faults).
+  static const std::array<FaultKey, 3> kFaultKeys;
   std::vector<ThetaSegment> theta;
   std::vector<RefSegment> reference;
   /// Elevator effectiveness schedule (key `effectiveness`); empty = Lambda 1 throughout.

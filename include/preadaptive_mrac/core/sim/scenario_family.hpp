@@ -4,6 +4,7 @@
 /// first segment at theta = 0.1 ones, the plant switches between a few fixed regimes, each
 /// visited at least twice. How a mode is judged against rac on such a family: family_report.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -48,6 +49,21 @@ double drawCondition(const ConditionRange& range, std::uint64_t seed, int index,
 std::vector<Scenario::EffectivenessSegment> regimeEffectiveness(const Scenario& s,
                                                                 const ConditionRange& range,
                                                                 std::uint64_t seed, int index);
+
+/// \brief Physical faults drawn per regime (`preadapt_family --faults`, JSBSim only): one range
+/// per key of Scenario::kFaultKeys, in that order; a range with lo == hi is that value in every
+/// regime. Default: every key nominal (cg_shift 0, the multipliers 1).
+struct FaultRanges {
+  FaultRanges();
+  std::array<ConditionRange, 3> range;
+};
+
+/// \brief A fault schedule for `s` with one set of faults per regime (distinct theta), each key
+/// uniform in its range, the first segment the nominal aircraft: a regime revisited brings its
+/// faults back. Key j of the regime drawn r-th (r = 0, 1, ...) comes from stream 3000 + 3 r + j
+/// of drawCondition (apart from the theta draws, the conditions, the Lambdas and the mismatch).
+std::vector<Scenario::FaultSegment> regimeFaults(const Scenario& s, const FaultRanges& ranges,
+                                                 std::uint64_t seed, int index);
 
 /// \brief A true plant that differs from the controller's model (issue 36, `--mismatch M`).
 struct PlantMismatch {
