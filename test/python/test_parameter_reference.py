@@ -109,6 +109,12 @@ def config_code_suffixes():
         'src/core/sim/scenario.cpp',
     ):
         out |= set(re.findall(r'"\.([a-zA-Z_][\w.]*)"', read(rel)))
+    # The fault keys, read from their table (Scenario::kFaultKeys: {"name", lo, hi, &field, ..}).
+    out |= set(
+        re.findall(
+            r'\{"([a-z_]+)", -?[\d.]+, -?[\d.]+, &FaultSegment::', read('src/core/sim/scenario.cpp')
+        )
+    )
     # The scalars the plant and scenario read through the generic reader: the keys (and their
     # sections) of each struct generated from their tables that the reader reads.
     for component in ('plant', 'scenario'):
