@@ -27,6 +27,7 @@ import unittest
 
 import dynamic_reconfigure.client
 import rosbag
+import rosgraph
 import rosnode
 import rospy
 import rostest
@@ -69,6 +70,20 @@ class ReconfigureTest(unittest.TestCase):
         self.lock = threading.Lock()
         self.last_step = -1
         self.rosout = []
+        # The controller waits for one status subscriber (the recorder, ~min_status_subscribers):
+        # this test's own must not be the one it counts, or the recorder can connect after the
+        # first statuses (fresh-clone CI: the bag held 56999 of 60000). So the recorder's
+        # subscriptions first (its ~progress is advertised after them), then this test's.
+        wait_for(
+            lambda: any(
+                t == "/recorder/progress"
+                for t, _ in rosgraph.Master(rospy.get_name()).getSystemState()[0]
+            ),
+            60,
+            "the recorder's subscriptions",
+            poll=0.05,
+        )
+        time.sleep(1.0)
         rospy.Subscriber("controller/status", AdaptationStatus, self.on_status, queue_size=1000)
         rospy.Subscriber("/rosout", Log, self.on_log, queue_size=1000)
         self.gate = rospy.Publisher("/gate/progress", RecorderProgress, queue_size=10)
