@@ -95,6 +95,20 @@ TEST(Family, EffectivenessPerRegimeFirstSegmentOne) {
   }
 }
 
+namespace {
+
+// A scenario written as preadapt_family --out-dir writes it and read back as a scenario file
+// (3 states); a file the reader refuses fails the test.
+Scenario readBack(const Scenario& s) {
+  const ParamValue tree = parseYaml(scenarioToYaml(s), "family");
+  ParamReader r(tree);
+  Scenario back = Scenario::read(r, 3);
+  EXPECT_TRUE(r.ok()) << ConfigError(r.problems()).what();
+  return back;
+}
+
+}  // namespace
+
 // Issue 36: --faults draws one set of physical faults per regime (the first segment nominal),
 // each key within its range, deterministic per (seed, scenario); a key given as one value is
 // that value in every regime, a key not given stays nominal; the schedule reads back from YAML.
@@ -163,16 +177,12 @@ TEST(Family, FaultsPerRegimeInRangeDeterministically) {
   // Written and read back exactly (preadapt_family --out-dir's scenario files).
   Scenario with = s;
   with.faults = regimeFaults(s, ranges, 77, 0);
-  const ParamValue tree = parseYaml(scenarioToYaml(with), "family");
-  ParamReader r(tree);
-  const Scenario back = Scenario::read(r, 3);
-  ASSERT_TRUE(r.ok()) << ConfigError(r.problems()).what();
+  const Scenario back = readBack(with);
   ASSERT_EQ(back.faults.size(), with.faults.size());
   for (size_t i = 0; i < with.faults.size(); ++i) {
     EXPECT_EQ(back.faults[i].until, with.faults[i].until);
-    EXPECT_EQ(back.faults[i].cg_shift, with.faults[i].cg_shift);
-    EXPECT_EQ(back.faults[i].elevator_effectiveness, with.faults[i].elevator_effectiveness);
-    EXPECT_EQ(back.faults[i].pitch_damping, with.faults[i].pitch_damping);
+    for (const auto& f : Scenario::kFaultKeys)
+      EXPECT_EQ(back.faults[i].*f.field, with.faults[i].*f.field) << f.name;
   }
 }
 
@@ -181,10 +191,7 @@ TEST(Family, YamlReadsBackExactly) {
   spec.ref_every = 7.0;
   const Scenario s = recurringScenario(spec, 3, 1);
   ASSERT_GT(s.reference.size(), 2u);
-  const ParamValue tree = parseYaml(scenarioToYaml(s), "family");
-  ParamReader r(tree);
-  const Scenario back = Scenario::read(r, 3);
-  ASSERT_TRUE(r.ok()) << ConfigError(r.problems()).what();
+  const Scenario back = readBack(s);
   ASSERT_EQ(back.theta.size(), s.theta.size());
   for (size_t i = 0; i < s.theta.size(); ++i) {
     EXPECT_EQ(back.theta[i].until, s.theta[i].until);
