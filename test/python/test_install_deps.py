@@ -1,7 +1,9 @@
 """scripts/install_deps --demo names what the package's own Python and the docs' commands need
 at run time. A fresh Debian 12 after `scripts/run_demo` lacked rosrun (ros-core only recommends
 rosbash, and install_deps installs without recommends) and geometry_msgs for Python (live_plot
-and viz_markers died); the development machine had both, so nothing else caught it."""
+and viz_markers died); the development machine had both, so nothing else caught it. The same for the test set: a fresh
+Debian 12 after `scripts/test` lacked diagnostic_msgs for Python, and 8 rostests died at their
+first import (CI's machine had it)."""
 
 import os
 import re
@@ -16,9 +18,9 @@ COMES_WITH = {
 }
 
 
-def demo_packages():
+def demo_packages(*flags):
     out = subprocess.run(
-        ['bash', os.path.join(ROOT, 'scripts', 'install_deps'), '--list'],
+        ['bash', os.path.join(ROOT, 'scripts', 'install_deps'), '--list', *flags],
         check=True,
         capture_output=True,
         text=True,
@@ -26,18 +28,26 @@ def demo_packages():
     return set(out.split())
 
 
-def imported_msg_modules():
-    """The ROS message packages the package's Python imports (src/preadaptive_mrac, scripts/)."""
+def python_files(*tops):
+    """*.py files and executables whose first line names python, under each top folder."""
     files = []
-    for top, _, names in os.walk(os.path.join(ROOT, 'src', 'preadaptive_mrac')):
-        files += [os.path.join(top, n) for n in names if n.endswith('.py')]
-    scripts = os.path.join(ROOT, 'scripts')
-    for n in os.listdir(scripts):
-        path = os.path.join(scripts, n)
-        if os.path.isfile(path):
-            with open(path, encoding='utf-8', errors='replace') as f:
-                if 'python' in f.readline():
+    for top in tops:
+        for d, _, names in os.walk(os.path.join(ROOT, top)):
+            for n in names:
+                path = os.path.join(d, n)
+                if n.endswith('.py'):
                     files.append(path)
+                elif os.access(path, os.X_OK):
+                    with open(path, encoding='utf-8', errors='replace') as f:
+                        if 'python' in f.readline():
+                            files.append(path)
+    return files
+
+
+def imported_msg_modules(*tops):
+    """The ROS message packages the Python files under tops import (default: what users run,
+    src/preadaptive_mrac and scripts/, examples included)."""
+    files = python_files(*(tops or ('src/preadaptive_mrac', 'scripts')))
     found = {}
     for path in files:
         with open(path, encoding='utf-8', errors='replace') as f:
@@ -65,6 +75,22 @@ class TestDemoSet(unittest.TestCase):
                 deb,
                 pkgs,
                 '%s imports %s: %s is not in install_deps --demo' % (where, module, deb),
+            )
+
+
+class TestTestSet(unittest.TestCase):
+    def test_every_message_package_the_tests_import(self):
+        pkgs = demo_packages('--test')
+        modules = imported_msg_modules('test', 'bench')
+        self.assertIn('diagnostic_msgs', modules)  # the scan finds what it must
+        for module, where in sorted(modules.items()):
+            if module in COMES_WITH:
+                continue
+            deb = 'python3-' + module.replace('_', '-')
+            self.assertIn(
+                deb,
+                pkgs,
+                '%s imports %s: %s is not in install_deps --test' % (where, module, deb),
             )
 
 

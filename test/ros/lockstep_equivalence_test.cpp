@@ -338,8 +338,11 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   int rows_compared = 0;
   for (const pm::PlantConditionColumn& c : pm::kPlantConditionTable) {
     const bool in_truth = rec.conditions.count(c.name) > 0;
-    if (c.engine) EXPECT_EQ(in_truth, cols.count(c.name) > 0) << "engine row " << c.name;
-    if (!c.engine) EXPECT_TRUE(in_truth) << "PlantTruth has no condition " << c.name;
+    if (c.engine) {
+      EXPECT_EQ(in_truth, cols.count(c.name) > 0) << "engine row " << c.name;
+    } else {
+      EXPECT_TRUE(in_truth) << "PlantTruth has no condition " << c.name;
+    }
     if (!cols.count(c.name) || !in_truth) continue;
     const bool after = c.known == pm::ConditionKnown::kAfterStep;
     double max_diff = 0.0;
