@@ -1,9 +1,9 @@
 """scripts/install_deps --demo names what the package's own Python and the docs' commands need
 at run time. A fresh Debian 12 after `scripts/run_demo` lacked rosrun (ros-core only recommends
 rosbash, and install_deps installs without recommends) and geometry_msgs for Python (live_plot
-and viz_markers died); the development machine had both, so nothing else caught it. The same for the test set: a fresh
-Debian 12 after `scripts/test` lacked diagnostic_msgs for Python, and 8 rostests died at their
-first import (CI's machine had it)."""
+and viz_markers died); the development machine had both, so nothing else caught it. The same
+for the test set: a fresh Debian 12 after `scripts/test` lacked diagnostic_msgs for Python, and
+8 rostests died at their first import (CI's machine had it)."""
 
 import os
 import re
