@@ -58,40 +58,34 @@ def imported_msg_modules(*tops):
     return found
 
 
+def missing_debs(flag, modules):
+    """(where, module, deb) for each imported message module whose python3-* package is not in
+    `install_deps FLAG`."""
+    pkgs = demo_packages(flag)
+    out = []
+    for module, where in sorted(modules.items()):
+        deb = 'python3-' + module.replace('_', '-')
+        if module not in COMES_WITH and deb not in pkgs:
+            out.append('%s imports %s: %s is not in install_deps %s' % (where, module, deb, flag))
+    return out
+
+
 class TestDemoSet(unittest.TestCase):
     def test_rosrun_is_installed(self):
         # the README and every tutorial use rosrun; it is in rosbash
         self.assertIn('rosbash', demo_packages())
 
     def test_every_imported_message_package(self):
-        pkgs = demo_packages()
         modules = imported_msg_modules()
         self.assertIn('geometry_msgs', modules)  # the scan finds what it must
-        for module, where in sorted(modules.items()):
-            if module in COMES_WITH:
-                continue
-            deb = 'python3-' + module.replace('_', '-')
-            self.assertIn(
-                deb,
-                pkgs,
-                '%s imports %s: %s is not in install_deps --demo' % (where, module, deb),
-            )
+        self.assertEqual(missing_debs('--demo', modules), [])
 
 
 class TestTestSet(unittest.TestCase):
     def test_every_message_package_the_tests_import(self):
-        pkgs = demo_packages('--test')
         modules = imported_msg_modules('test', 'bench')
         self.assertIn('diagnostic_msgs', modules)  # the scan finds what it must
-        for module, where in sorted(modules.items()):
-            if module in COMES_WITH:
-                continue
-            deb = 'python3-' + module.replace('_', '-')
-            self.assertIn(
-                deb,
-                pkgs,
-                '%s imports %s: %s is not in install_deps --test' % (where, module, deb),
-            )
+        self.assertEqual(missing_debs('--test', modules), [])
 
 
 if __name__ == '__main__':
