@@ -25,25 +25,32 @@ _OP_INDEX_DATA = 4
 _OP_CONNECTION = 7
 _INDEX_DTYPE = np.dtype([('sec', '<u4'), ('nsec', '<u4'), ('off', '<u4')])
 
-# A message record as rosbag's C++ writer and src/ros/bag_writer.cpp write it: header length 38,
-# the fields in std::map order (conn, op, time), then the data length. None: any byte.
-_LAYOUT = (
-    list(struct.pack('<I', 38))
-    + list(struct.pack('<I', 9))
-    + list(b'conn=')
-    + [None] * 4
-    + list(struct.pack('<I', 4))
-    + list(b'op=')
-    + [_OP_MSG_DATA]
-    + list(struct.pack('<I', 13))
-    + list(b'time=')
-    + [None] * 8
-    + [None] * 4
-)
-_FIXED = np.array([i for i, b in enumerate(_LAYOUT) if b is not None])
-_FIXED_BYTES = np.array([_LAYOUT[i] for i in _FIXED], dtype=np.uint8)
-_CONN_AT, _SEC_AT, _NSEC_AT, _LEN_AT = 13, 34, 38, 42
-_HEAD = len(_LAYOUT)  # bytes before the message data
+_FIELDS = {
+    'conn': list(struct.pack('<I', 9)) + list(b'conn=') + [None] * 4,
+    'op': list(struct.pack('<I', 4)) + list(b'op=') + [_OP_MSG_DATA],
+    'time': list(struct.pack('<I', 13)) + list(b'time=') + [None] * 8,
+}
+
+
+def _layout(order):
+    """A message record header of the three fields in this order: (byte template with None
+    for any byte, offset of the connection id)."""
+    t = list(struct.pack('<I', 38))
+    for name in order:
+        if name == 'conn':
+            conn_at = len(t) + 9
+        t += _FIELDS[name]
+    t += [None] * 4  # the data length
+    fixed = np.array([i for i, v in enumerate(t) if v is not None])
+    return fixed, np.array([t[i] for i in fixed], dtype=np.uint8), conn_at
+
+
+# A message record as rosbag's C++ writer and src/ros/bag_writer.cpp write it (the fields in
+# std::map order) and as rosbag's Python writer does (op first); the time and the data length
+# are at the same places in both.
+_LAYOUTS = [_layout(('conn', 'op', 'time')), _layout(('op', 'conn', 'time'))]
+_SEC_AT, _NSEC_AT, _LEN_AT = 34, 38, 42
+_HEAD = 46  # bytes before the message data
 
 
 class Unsupported(Exception):
@@ -171,13 +178,16 @@ class ChunkReader:
             raise Unsupported('index entry past the chunk')
         a = np.frombuffer(buf, dtype=np.uint8)
         g = a[offs[:, None] + np.arange(_HEAD)]
-        if not np.all(g[:, _FIXED] == _FIXED_BYTES):
+        for fixed, fixed_bytes, conn_at in _LAYOUTS:
+            if np.all(g[:, fixed] == fixed_bytes):
+                break
+        else:
             raise Unsupported('message record laid out otherwise')
 
         def u32(at):
             return np.ascontiguousarray(g[:, at : at + 4]).view('<u4').ravel()
 
-        if np.any(u32(_CONN_AT) != conn.id):
+        if np.any(u32(conn_at) != conn.id):
             raise Unsupported('index entry of another connection')
         sec, nsec, length = u32(_SEC_AT), u32(_NSEC_AT), u32(_LEN_AT).astype(np.int64)
         if np.any(nsec >= 1000000000):
