@@ -27,10 +27,10 @@ WANTED = ['/a/status', '/b/value', '/two']
 
 
 def write_mixed_bag(path, compression='none'):
-    """Several topics over many small chunks: ties in time across topics and connections,
-    a message out of time order on one connection (the chunk's index puts it in time order), a topic with two connections (two
-    publishers: rosbag's Python writer keeps one connection per topic, so the second one is
-    made by hand) and a topic nobody asks for."""
+    """Several topics over many small chunks: ties in time across topics and connections, a
+    message out of time order on one connection (the chunk's index puts it in time order), a
+    topic with two connections (two publishers: rosbag's Python writer keeps one connection per
+    topic, so the second one is made by hand) and a topic nobody asks for."""
     import rosbag
     import rospy
     from std_msgs.msg import Float64, String

@@ -201,6 +201,4 @@ class ChunkReader:
             m.deserialize(buf[s:e])
             msgs.append(m)
         times.extend((sec.astype(np.float64) + nsec.astype(np.float64) / 1e9).tolist())
-        index_ns.extend(
-            (entries['sec'].astype(np.int64) * 1000000000 + entries['nsec']).tolist()
-        )
+        index_ns.extend((entries['sec'].astype(np.int64) * 1000000000 + entries['nsec']).tolist())
