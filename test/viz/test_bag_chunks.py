@@ -23,7 +23,7 @@ import synthetic  # noqa: E402
 from preadaptive_mrac import analysis as pa  # noqa: E402
 from preadaptive_mrac.analysis import bag_chunks, bags  # noqa: E402
 
-WANTED = ['/a/status', '/b/value', '/two']
+WANTED = ['/a/status', '/b/value', '/c/elevator_cmd', '/two']
 
 
 def write_mixed_bag(path, compression='none'):
@@ -35,6 +35,7 @@ def write_mixed_bag(path, compression='none'):
     import rospy
     from std_msgs.msg import Float64, String
 
+    Elevator = synthetic.load_msg_classes()['ElevatorCommand']  # a header and plain fields
     counts = {}
     with rosbag.Bag(path, 'w', chunk_threshold=1024, compression=compression) as b:
         pubs = [None, None]
@@ -51,6 +52,10 @@ def write_mixed_bag(path, compression='none'):
             if i % 50 == 7:  # late: bag time before the previous message's
                 put('/a/status', String('late%d' % i), t - rospy.Duration(0, 5000000))
             put('/unwanted', Float64(i), t)
+            if i % 4 == 1:
+                e = Elevator(step=i, u=-0.01 * i, u_baseline=0.5, safe=i % 8 == 1)
+                e.header.seq, e.header.stamp, e.header.frame_id = i, t, 'f%d' % i
+                put('/c/elevator_cmd', e, t)
             k = i % 2 if i < 200 else 1  # the second publisher alone at the end
             b._topic_connections.pop('/two', None)
             if pubs[k] is not None:
@@ -108,6 +113,16 @@ class ChunkReaderTest(unittest.TestCase):
         for topic in WANTED:
             self.assertEqual(len(got[topic]), counts[topic], topic)
             self.assertEqual(as_bytes(got[topic]), as_bytes(ref[topic]), topic)
+        # the elevator commands were made empty (header and stamp without defaults) before
+        # deserialize(), the others with cls()
+        with rosbag.Bag(path, 'r', skip_index=True) as b:
+            made = {
+                c.topic: bag_chunks._blank(rosbag.bag._get_message_type(c))
+                for c in b._connections.values()
+            }
+        self.assertFalse(isinstance(made['/c/elevator_cmd'], type))
+        self.assertTrue(isinstance(made['/a/status'], type))
+        self.assertEqual(got['/c/elevator_cmd'][3][0].header.frame_id, 'f13')
         # the order is the index's, not the file's: rosbag's Python writer sorts a chunk's
         # index by time, so the late message (written after s7) is read before it
         names = [m.data for m, _ in got['/a/status']]

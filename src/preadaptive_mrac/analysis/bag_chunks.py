@@ -53,6 +53,56 @@ _SEC_AT, _NSEC_AT, _LEN_AT = 34, 38, 42
 _HEAD = 46  # bytes before the message data
 
 
+_PLAIN = {
+    'bool',
+    'byte',
+    'char',
+    'int8',
+    'uint8',
+    'int16',
+    'uint16',
+    'int32',
+    'uint32',
+    'int64',
+    'uint64',
+    'float32',
+    'float64',
+    'string',
+}
+
+
+def _blank(cls):
+    """A maker of messages for deserialize(). cls() fills every field with a default that
+    deserialize() then overwrites, a genpy Time with type checks for a header's stamp (about
+    1 us a message); for a message of a std_msgs/Header first and plain fields (numbers,
+    strings, arrays of them: deserialize() assigns each), the message and its header are made
+    empty instead. Any other message: cls."""
+    types = list(getattr(cls, '_slot_types', []))
+    slots = list(getattr(cls, '__slots__', []))
+    if not types or types[0] != 'std_msgs/Header' or slots[:1] != ['header']:
+        return cls
+    if not all(t.split('[')[0] in _PLAIN for t in types[1:]):
+        return cls
+    header = type(cls().header)
+    if list(header.__slots__) != ['seq', 'stamp', 'frame_id'] or list(header._slot_types) != [
+        'uint32',
+        'time',
+        'string',
+    ]:
+        return cls
+    stamp = type(header().stamp)
+    new_msg, new_header, new_stamp = cls.__new__, header.__new__, stamp.__new__
+
+    def blank():
+        m = new_msg(cls)
+        h = new_header(header)
+        h.stamp = new_stamp(stamp)
+        m.header = h
+        return m
+
+    return blank
+
+
 class Unsupported(Exception):
     """The bag is not one this reader handles; read it with rosbag instead."""
 
@@ -101,6 +151,7 @@ class ChunkReader:
             raise Unsupported('encrypted bag')
         self.bag = bag
         self._message_type = rb._get_message_type
+        self._makers = {}  # connection id -> maker of empty messages
         self.chunks = []  # (data_pos, size, {conn: index entries})
         f = bag._file
         for info in bag._chunks:
@@ -195,9 +246,11 @@ class ChunkReader:
         start = offs + _HEAD
         if np.any(start + length > len(buf)):
             raise Unsupported('message data past the chunk')
-        cls = self._message_type(conn)
+        make = self._makers.get(conn.id)
+        if make is None:
+            make = self._makers[conn.id] = _blank(self._message_type(conn))
         for s, e in zip(start.tolist(), (start + length).tolist()):
-            m = cls()
+            m = make()
             m.deserialize(buf[s:e])
             msgs.append(m)
         times.extend((sec.astype(np.float64) + nsec.astype(np.float64) / 1e9).tolist())
