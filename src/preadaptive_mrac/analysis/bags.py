@@ -64,11 +64,8 @@ def _load_bag(path):
     bag = _open_bag(rosbag, path, True)
     try:
         fast = bag_chunks.ChunkReader(bag)
-    except bag_chunks.Unsupported:
-        fast = None
-    except BaseException:
-        bag.close()
-        raise
+    except Exception:  # not a bag for it (bag_chunks.Unsupported) or one it misreads: rosbag's
+        fast = None  # own reading gives the answer or the error it always gave
     if fast is None:
         bag.close()
         bag = _open_bag(rosbag, path, False)
@@ -90,7 +87,7 @@ def _read_topics(bag, topics, fast, reopen):
     if fast is not None:
         try:
             return fast.read(topics)
-        except bag_chunks.Unsupported:
+        except Exception:  # as above: read_messages answers, or raises what it raises
             full = reopen()
             try:
                 return _read_messages(full, topics)
