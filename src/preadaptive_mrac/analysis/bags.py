@@ -3,6 +3,8 @@
 import os
 
 import numpy as np
+
+from . import bag_chunks
 from .runs import (
     EVENT_TYPES,
     InputError,
@@ -29,17 +31,9 @@ def _stamp_times(stamps, bag_times):
     return s, False
 
 
-def _load_bag(path):
+def _open_bag(rosbag, path, skip_index):
     try:
-        import rosbag
-    except ImportError:
-        raise InputError(
-            path,
-            'reading bags needs ROS\' rosbag module: run with /usr/bin/python3 '
-            '(Debian package python3-rosbag)',
-        )
-    try:
-        bag = rosbag.Bag(path, 'r')
+        return rosbag.Bag(path, 'r', skip_index=skip_index)
     except rosbag.ROSBagUnindexedException:
         raise InputError(
             path,
@@ -54,13 +48,55 @@ def _load_bag(path):
         )
     except (rosbag.ROSBagException, OSError, ValueError) as ex:
         raise InputError(path, 'cannot read the bag: %s' % ex)
+
+
+def _load_bag(path):
     try:
-        return _read_bag(bag, path)
+        import rosbag
+    except ImportError:
+        raise InputError(
+            path,
+            'reading bags needs ROS\' rosbag module: run with /usr/bin/python3 '
+            '(Debian package python3-rosbag)',
+        )
+    # The chunk reader (bag_chunks.py) reads the index itself: rosbag opens the bag without it,
+    # and again with it (read_messages) for any bag the chunk reader does not handle.
+    bag = _open_bag(rosbag, path, True)
+    try:
+        fast = bag_chunks.ChunkReader(bag)
+    except Exception:  # not a bag for it (bag_chunks.Unsupported) or one it misreads: rosbag's
+        fast = None  # own reading gives the answer or the error it always gave
+    if fast is None:
+        bag.close()
+        bag = _open_bag(rosbag, path, False)
+    try:
+        return _read_bag(bag, path, fast, lambda: _open_bag(rosbag, path, False))
     finally:
         bag.close()
 
 
-def _read_bag(bag, path):
+def _read_messages(bag, topics):
+    """{topic: [(message, bag time [s])]} through rosbag's read_messages."""
+    out = {}
+    for topic, msg, bt in bag.read_messages(topics=topics):
+        out.setdefault(topic, []).append((msg, bt.to_sec()))
+    return out
+
+
+def _read_topics(bag, topics, fast, reopen):
+    if fast is not None:
+        try:
+            return fast.read(topics)
+        except Exception:  # as above: read_messages answers, or raises what it raises
+            full = reopen()
+            try:
+                return _read_messages(full, topics)
+            finally:
+                full.close()
+    return _read_messages(bag, topics)
+
+
+def _read_bag(bag, path, fast=None, reopen=None):
     if bag.get_message_count() == 0:
         raise InputError(path, 'empty bag: it holds no messages')
     info = bag.get_type_and_topic_info().topics
@@ -99,9 +135,9 @@ def _read_bag(bag, path):
         for k, tp in groups[ns].items():
             topic_to[tp] = (ns, k)
     acc = {ns: {k: [] for k in TOPICS} for ns in runs_ns}
-    for topic, msg, bt in bag.read_messages(topics=list(topic_to)):
+    for topic, pairs in _read_topics(bag, list(topic_to), fast, reopen).items():
         ns, k = topic_to[topic]
-        acc[ns][k].append((msg, bt.to_sec()))
+        acc[ns][k].extend(pairs)
     runs = []
     stem = os.path.basename(path)
     for suffix in ('.active', '.bag'):
