@@ -70,7 +70,8 @@ check "the bag own_plant_pa_robust_*.bag is closed" test -n "$BAG"
 if [ -n "$BAG" ]; then
   check "the bag holds the 20000 states of your plant, each once, and 20000 commands" \
     test "$(count "$BAG" /plant/state) $(count "$BAG" /controller/elevator_cmd)" = "20000 20000"
-  check "analyze_bag reads it" rosrun preadaptive_mrac analyze_bag "$BAG" --no-figures --out "$TMP/analysis" >"$TMP/analysis.log" 2>&1
+  check "analyze_bag reads it" bash -c 'rosrun preadaptive_mrac analyze_bag "$1" --no-figures --out "$2" >"$3" 2>&1' \
+    _ "$BAG" "$TMP/analysis" "$TMP/analysis.log"
 fi
 check "no node is left on the master but rosout" test "$(rosnode list 2>&1)" = /rosout
 [ "$FAIL" = 0 ] || { tail -20 "$TMP/controller_pa_robust.log"; tail -5 "$TMP/my_plant_pa_robust.log"; tail -5 "$TMP/analysis.log" 2>/dev/null; }
