@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The JSBSim B-747's speed motion is the published one: flown in plain JSBSim (no socket, about a
+# second per condition) at Heffley and Jewell's (NASA CR-2144) conditions 5, 9 and 10 and at
+# Mach 0.85 between them, its identified phugoid period and damping and its speed derivatives
+# X_u, Z_u, M_u (M_u carries the sign of Cm_M) must match the small-perturbation model of the
+# same data, and no mode may be unstable (jsbsim/tools/jsbsim_speed_modes.py --check). No
+# JSBSim process may be left behind.
+set -uo pipefail
+TEST_NAME=jsbsim_speed_modes
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+FAIL=0
+MARK="jsbsim_speed_modes_$$_$(date +%s%N)"
+ours() {
+  local p
+  for p in $(pgrep -x JSBSim); do
+    tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qxF "PMRAC_TEST_MARK=$MARK" && echo "$p"
+  done
+}
+if ! bin=$("$ROOT/scripts/install_jsbsim" | tail -n1) || [ ! -x "$bin" ]; then
+  echo "FAIL: scripts/install_jsbsim did not give a JSBSim binary"
+  echo "$TEST_NAME: FAILED"
+  exit 1
+fi
+if ! PMRAC_TEST_MARK=$MARK PMRAC_JSBSIM=$bin /usr/bin/python3 "$ROOT/jsbsim/tools/jsbsim_speed_modes.py" --check; then
+  echo "FAIL: the speed modes of b747_pmrac are not the published data's"
+  FAIL=1
+fi
+left=$(ours)
+if [ -n "$left" ]; then
+  echo "FAIL: JSBSim processes left behind: $left"
+  FAIL=1
+fi
+if [ "$FAIL" = 0 ]; then echo "$TEST_NAME: PASSED"; else echo "$TEST_NAME: FAILED"; fi
+exit "$FAIL"
