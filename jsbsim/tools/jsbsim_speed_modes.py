@@ -348,6 +348,15 @@ def main():
         A5, A4, rms = identify(run, 0.05, ref5[:, 4])
         label = "condition %d" % cond if cond else "(no published condition)"
         print("Mach %.3f, %.0f ft, %s" % (mach, alt, label))
+        i0 = int(np.searchsorted(run["t"], 0.05 - 1e-9))
+        print(
+            "  trim: alpha %.3f deg, elevator %.3f deg from the datum, true airspeed %.2f ft/s"
+            % (
+                math.degrees(run["aero/alpha-rad"][i0]),
+                math.degrees(run["fcs/elevator-pos-rad"][i0]),
+                run["velocities/vt-fps"][i0],
+            )
+        )
         print("  JSBSim, 4-state  " + fmt_modes(modes(A4)))
         print("  JSBSim, 5-state  " + fmt_modes(modes(A5)))
         print(
