@@ -32,7 +32,7 @@ SCRIPT = """<?xml version="1.0"?>
   </run>
 </runscript>
 """
-# Condition 9 of Heffley and Jewell (shared/data/b747_heffley.md) and the paper's matrices.
+# Condition 9 of Heffley and Jewell (NASA CR-2144, 1972) as a short-period model, and the paper's.
 COND9 = (-0.310, 0.987, -0.794, -0.425, -0.023, -1.152)
 PAPER = (-0.32, 0.86, -0.93, -0.43, -0.02, -1.16)
 
