@@ -30,6 +30,8 @@ import tempfile
 
 import numpy as np
 
+from jsbsim_probe import jsbsim_binary
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)  # the jsbsim/ folder: aircraft/, engine/
 
@@ -217,19 +219,6 @@ LOG = """<?xml version="1.0"?>
 <output name="out.csv" type="CSV" rate="{rate}">
 {props}</output>
 """
-
-
-def jsbsim_binary():
-    for cand in (
-        os.environ.get("PMRAC_JSBSIM"),
-        "/usr/games/JSBSim",
-        os.path.join(os.path.dirname(ROOT), "build", "jsbsim", "bin", "JSBSim"),
-    ):
-        if cand and os.access(cand, os.X_OK):
-            return cand
-    sys.exit(
-        "jsbsim_speed_modes: no JSBSim binary (run scripts/install_jsbsim or set PMRAC_JSBSIM)"
-    )
 
 
 def fly(mach, altitude_ft, duration, dt, pulses, rate=20.0):
