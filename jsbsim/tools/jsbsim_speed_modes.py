@@ -43,62 +43,21 @@ CBAR = 27.3  # ft
 
 # Heffley and Jewell (NASA CR-2144), B-747 clean conditions; derivatives per rad, q and alphadot
 # derivatives per rad of q c/(2U) and alphadot c/(2U), speed derivatives per unit Mach.
+# fmt: off
+COLUMNS = ("h", "M", "CL", "CD", "CLa", "CDa", "Cma", "CLad", "Cmad", "CLq", "Cmq",
+           "CLM", "CDM", "CmM", "CLde", "Cmde")
 CONDITIONS = {
-    5: dict(
-        h=20000.0,
-        M=0.5,
-        CL=0.680,
-        CD=0.0393,
-        CLa=4.67,
-        CDa=0.366,
-        Cma=-1.146,
-        CLad=6.53,
-        Cmad=-3.35,
-        CLq=5.13,
-        Cmq=-20.7,
-        CLM=-0.0875,
-        CDM=0.0,
-        CmM=0.121,
-        CLde=0.356,
-        Cmde=-1.43,
-    ),
-    9: dict(
-        h=40000.0,
-        M=0.8,
-        CL=0.660,
-        CD=0.0415,
-        CLa=4.92,
-        CDa=0.425,
-        Cma=-1.033,
-        CLad=5.91,
-        Cmad=-6.41,
-        CLq=6.00,
-        Cmq=-24.0,
-        CLM=0.205,
-        CDM=0.0275,
-        CmM=0.166,
-        CLde=0.367,
-        Cmde=-1.45,
-    ),
-    10: dict(
-        h=40000.0,
-        M=0.9,
-        CL=0.521,
-        CD=0.0415,
-        CLa=5.57,
-        CDa=0.527,
-        Cma=-1.613,
-        CLad=5.53,
-        Cmad=-8.82,
-        CLq=6.94,
-        Cmq=-25.1,
-        CLM=-0.278,
-        CDM=0.242,
-        CmM=-0.114,
-        CLde=0.300,
-        Cmde=-1.20,
-    ),
+    cond: dict(zip(COLUMNS, row))
+    for cond, row in {
+        5: (20000.0, 0.5, 0.680, 0.0393, 4.67, 0.366, -1.146, 6.53, -3.35, 5.13, -20.7,
+            -0.0875, 0.0, 0.121, 0.356, -1.43),
+        9: (40000.0, 0.8, 0.660, 0.0415, 4.92, 0.425, -1.033, 5.91, -6.41, 6.00, -24.0,
+            0.205, 0.0275, 0.166, 0.367, -1.45),
+        10: (40000.0, 0.9, 0.521, 0.0415, 5.57, 0.527, -1.613, 5.53, -8.82, 6.94, -25.1,
+             -0.278, 0.242, -0.114, 0.300, -1.20),
+    }.items()
 }
+# fmt: on
 CONDITION_OF_MACH = {0.5: 5, 0.8: 9, 0.9: 10}
 
 
