@@ -191,5 +191,20 @@ class TestUserPages(unittest.TestCase):
         self.assertIn('## Licence', text.splitlines())
 
 
+class TestPlantConfigSaysWhereItFlies(unittest.TestCase):
+    # A and B are Heffley and Jewell's condition 9 (Mach 0.8, 40,000 ft), where JSBSim trims
+    # (plant.jsbsim.altitude_ft); the paper's "6000 m" is not where they come from.
+    def test_b747_operating_point(self):
+        import yaml
+
+        for rel in ('config/plant/b747.yaml', 'test/ros/config/jsbsim_plant.yaml'):
+            with open(os.path.join(ROOT, rel), encoding='utf-8') as f:
+                text = f.read()
+            plant = yaml.safe_load(text)['plant']
+            self.assertIn('40,000 ft', plant['description'], rel)
+            self.assertAlmostEqual(plant['operating_point']['h'], 40000 * 0.3048, 0, rel)
+            self.assertNotIn('at 6000 m', text, rel)
+
+
 if __name__ == '__main__':
     unittest.main()
