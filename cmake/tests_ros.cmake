@@ -51,7 +51,7 @@ if(CATKIN_ENABLE_TESTING)
   # elevator, the command and the gust published equal the CLI's CSV columns.
   foreach(shape nodelet process)
     add_rostest(test/ros/lockstep.test ARGS mode:=pa_robust shape:=${shape} name_suffix:=_conditions
-      plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/conditions_plant.yaml
+      test_plant:=conditions
       DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                    preadaptive_mrac_nodelets preadapt_sim)
   endforeach()
@@ -59,7 +59,7 @@ if(CATKIN_ENABLE_TESTING)
   # Issue 35: a plant whose envelope scenario 1 leaves (max_alpha 0.05 rad): the truth says the
   # CLI's exit (bound, time) from the sample after it; the run goes on, still the CLI's run.
   add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=nodelet name_suffix:=_envelope
-    plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/envelope_plant.yaml
+    test_plant:=envelope
     DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                  preadaptive_mrac_nodelets preadapt_sim)
   # Issue 36: JSBSim as the plant engine, in the plant node too: a 6 s scenario in lockstep
@@ -70,8 +70,8 @@ if(CATKIN_ENABLE_TESTING)
   # flight outputs (pitch, airspeed, altitude, flight_path) equal the CSV's columns.
   foreach(shape process nodelet)
     add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=${shape} name_suffix:=_jsbsim
-      plant_config:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_plant.yaml
-      scenario_path:=${PROJECT_SOURCE_DIR}/test/ros/config/jsbsim_scenario.yaml
+      test_plant:=jsbsim
+      test_scenario:=jsbsim
       DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                    preadaptive_mrac_nodelets preadapt_sim)
   endforeach()

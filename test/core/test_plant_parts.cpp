@@ -440,6 +440,8 @@ TEST(Envelope, FirstExitKeptWithItsBoundAndNonFiniteFlagged) {
   EXPECT_EQ(m.exit().step, 7);
   EXPECT_DOUBLE_EQ(m.exit().value, 0.3);
   EXPECT_NE(m.exit().describe().find("plant.envelope.max_alpha"), std::string::npos);
+  EXPECT_EQ(m.exit().describe().rfind("t = 0.007 s (step 7): |alpha| = 0.3 rad", 0), 0u)
+      << m.exit().describe();
   m.checkCommand(8, 0.008, 2.0, x, c);  // a later exit does not replace the first
   EXPECT_EQ(m.exit().bound, "alpha");
   EXPECT_FALSE(m.nonFinite());
@@ -491,4 +493,16 @@ TEST(Envelope, ClosedLoopRecordsTheExitAndEndsAtANonFiniteState) {
   EXPECT_NEAR(static_cast<double>(nan_run.steps) * 0.001, nan_run.envelope_exit.non_finite_t,
               0.001 + 1e-12);
   for (const Vec& x : nan_run.series.x) ASSERT_TRUE(x.allFinite());  // the controller saw none
+}
+
+TEST(EnvelopeMonitor, TimesPrintedForAPerson) {
+  // step * dt as the plant computes it: 5004 * 0.001 is 5.0040000000000004
+  FlightEnvelope env;
+  EnvelopeMonitor m(env, 1);
+  PlantConditions c;
+  Vec x(3);
+  x << 0.0, 0.3, 0.0;
+  m.checkState(5004, 5004 * 0.001, x, 0.0, c);
+  ASSERT_TRUE(m.exit().exited);
+  EXPECT_EQ(m.exit().describe().rfind("t = 5.004 s (step 5004)", 0), 0u) << m.exit().describe();
 }

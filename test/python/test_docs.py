@@ -5,6 +5,7 @@
   closed_loop.launch takes, its topic table every topic compare.launch records, and its attention
   row every field of AttentionEvent; the README's table of modes lists every mode."""
 
+import glob
 import os
 import re
 import unittest
@@ -146,6 +147,63 @@ class TestReadmeTables(unittest.TestCase):
         row = _row(_ros_md(), '`controller/attention`')
         self.assertIn('decision_code', fields)
         self.assertEqual([x for x in fields if '`%s`' % x not in row], [], row)
+
+
+# The pages a user reads: the project's history (issue numbers, dated runs) goes to
+# docs/notebook.md, not here.
+USER_PAGES = ['README.md', 'docs/reproduction.md', 'docs/mismatch.md', 'docs/jsbsim.md']
+USER_DIRS = ['docs/tutorials', 'docs/reference', 'docs/research']
+ISSUE_NUMBER = re.compile(r'\bissues?[\s_-]*#?\s*\d+|(?<![\w&/])#\d+\b', re.IGNORECASE)
+
+
+def _user_pages():
+    pages = [os.path.join(ROOT, p) for p in USER_PAGES]
+    for d in USER_DIRS:
+        pages += sorted(glob.glob(os.path.join(ROOT, d, '*.md')))
+    return pages
+
+
+class TestUserPages(unittest.TestCase):
+    def test_no_issue_numbers(self):
+        found = []
+        for page in _user_pages():
+            with open(page, encoding='utf-8') as f:
+                for n, line in enumerate(f, 1):
+                    for m in ISSUE_NUMBER.finditer(line):
+                        found.append('%s:%d: %s' % (os.path.relpath(page, ROOT), n, m.group(0)))
+        self.assertEqual(found, [], 'issue numbers in user pages (history: docs/notebook.md)')
+
+    def test_pattern_finds_issue_numbers(self):
+        for text in (
+            'issue 36',
+            'issue-22 report',
+            'Issue 22 item 3',
+            "issues 20 and 22",
+            'see #41',
+        ):
+            self.assertTrue(ISSUE_NUMBER.search(text), text)
+        for text in ('scenario 3', '&#39;', 'page.md#section-2', 'seed 1729'):
+            self.assertFalse(ISSUE_NUMBER.search(text), text)
+
+    def test_readme_short_with_a_licence_section(self):
+        text = _readme()
+        self.assertLessEqual(len(text.splitlines()), 200)
+        self.assertIn('## Licence', text.splitlines())
+
+
+class TestPlantConfigSaysWhereItFlies(unittest.TestCase):
+    # A and B are Heffley and Jewell's condition 9 (Mach 0.8, 40,000 ft), where JSBSim trims
+    # (plant.jsbsim.altitude_ft); the paper's "6000 m" is not where they come from.
+    def test_b747_operating_point(self):
+        import yaml
+
+        for rel in ('config/plant/b747.yaml', 'test/ros/config/jsbsim_plant.yaml'):
+            with open(os.path.join(ROOT, rel), encoding='utf-8') as f:
+                text = f.read()
+            plant = yaml.safe_load(text)['plant']
+            self.assertIn('40,000 ft', plant['description'], rel)
+            self.assertAlmostEqual(plant['operating_point']['h'], 40000 * 0.3048, 0, rel)
+            self.assertNotIn('at 6000 m', text, rel)
 
 
 if __name__ == '__main__':

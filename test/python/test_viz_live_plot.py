@@ -15,6 +15,7 @@ from preadaptive_mrac.viz.live_plot import (
     parse_spec,
     resolve,
     split_fields,
+    window_title,
 )
 
 
@@ -29,6 +30,16 @@ class Msg:
 
 
 TOPICS = ['/plant/state', '/controller/status', '/controller/status_extra']
+
+
+class TestWindowTitle(unittest.TestCase):
+    def test_two_windows_differ(self):
+        # scenario.launch's plot and a user's rosrun live_plot beside it
+        a = window_title('/conditions_plot', 'elevator commanded / applied [rad]', ['x'])
+        b = window_title('/live_plot_123_456', '', ['plant/state/alpha', 'plant/state/q'])
+        self.assertNotEqual(a, b)
+        self.assertEqual(a, 'elevator commanded / applied [rad] (/conditions_plot)')
+        self.assertEqual(b, 'plant/state/alpha plant/state/q (/live_plot_123_456)')
 
 
 class TestSpec(unittest.TestCase):

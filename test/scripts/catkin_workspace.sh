@@ -1,7 +1,17 @@
 #!/usr/bin/env bash
-# Issue 23: the package as a ROS user has it. A catkin workspace with the package in src/,
-# `catkin_make install`, then the source, build and devel spaces removed; from the install
-# space alone:
+# The package as a ROS user has it, from the README's own commands:
+#   - the README's catkin block, run line by line in a workspace at ~/catkin_ws where HOME is a
+#     scratch folder whose path makes ~/catkin_ws 40 characters or longer (a user's home):
+#     `catkin_make` with testing on, as a user types it (the rostest targets' names must fit a
+#     file name there), then `catkin_make run_tests_preadaptive_mrac_<...>` for a named subset
+#     (one gtest, one rostest whose registration names a test plant) and catkin_test_results;
+#     the README's `rosdep install` line is left out (it needs the network for rosdep's
+#     database; package.xml is checked by catkin_lint.sh);
+#   - `catkin_make install`;
+#   - the README's catkin-tools line, `catkin build`, in the same workspace after its
+#     catkin_make build and devel spaces are removed (catkin build refuses them), and
+#     preadapt_sim from its devel space;
+#   - then the source, build and devel spaces removed; from catkin_make's install space alone:
 #   - the batch tools are on PATH and rosrun finds preadapt_sim; every executable is in
 #     lib/preadaptive_mrac (where rosrun and roslaunch look); preadapt_sim finds its
 #     configuration (no source path compiled in) and runs scenario 1 (rac and pa_learn);
@@ -13,9 +23,10 @@
 #   - at the same time compare.launch in run_c (nodelet shape, rac and pa_learn), whose pairs
 #     reach its manager, recorder and tf through the installed scripts/lib/parent_names: both
 #     pairs' data in its bag equal their CLI runs bit for bit.
-# The catkin build is the cost (ccache is used when present, with CCACHE_BASEDIR so a new
-# temporary workspace still hits the cache): PMRAC_WS_JOBS (default 2) parallel jobs.
-# PMRAC_WS_KEEP=1 keeps the workspace.
+# The builds are the cost: ccache is used when present, through CMAKE_<LANG>_COMPILER_LAUNCHER
+# in the environment (the user's command stays as written) and CCACHE_BASEDIR, so a new
+# workspace still hits the cache and catkin build, in the same folders, hits catkin_make's
+# objects. PMRAC_WS_KEEP=1 keeps the workspace.
 set -uo pipefail
 TEST_NAME=catkin_workspace
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -24,40 +35,130 @@ skip() {
   exit 77
 }
 command -v catkin_make >/dev/null || skip "catkin_make not installed"
+command -v catkin >/dev/null || skip "catkin (catkin-tools) not installed: scripts/install_deps --test"
 command -v roslaunch >/dev/null || skip "roslaunch not installed"
+command -v rostest >/dev/null || skip "rostest not installed"
 command -v git >/dev/null || skip "git not installed"
 git -C "$ROOT" rev-parse --git-dir >/dev/null 2>&1 || skip "$ROOT is not a git checkout"
 
 W=$(mktemp -d /tmp/pmrac_ws.XXXXXX)
-WS=$W/ws
 FAIL=0
 fail() {
   echo "FAIL: $*"
   FAIL=1
 }
+finish() {
+  if [ "$FAIL" = 0 ]; then
+    echo "$TEST_NAME: PASSED"
+    [ "${PMRAC_WS_KEEP:-0}" = 1 ] || rm -rf "$W"
+  else
+    echo "$TEST_NAME: FAILED (logs in $W)"
+  fi
+  exit "$FAIL"
+}
 
-# The package as it is in this checkout (tracked and new files, not build outputs).
-mkdir -p "$WS/src/preadaptive_mrac"
+# The repository a user clones: this checkout's files (tracked and new, not build outputs),
+# committed as they are.
+REPO=$W/repository
+mkdir -p "$REPO"
 (cd "$ROOT" && git ls-files -z --cached --others --exclude-standard |
-  tar --null -T - --ignore-failed-read -cf - 2>/dev/null) | tar -xf - -C "$WS/src/preadaptive_mrac"
+  tar --null -T - --ignore-failed-read -cf - 2>/dev/null) | tar -xf - -C "$REPO"
+(cd "$REPO" && git init -q && git add -A &&
+  git -c user.name=test -c user.email=test@localhost commit -qm checkout) ||
+  skip "could not make a git repository of the checkout"
 
-launcher=()
+# A user's home whose ~/catkin_ws is 40 characters or longer.
+USER_HOME=$W/home/a_control_engineer
+mkdir -p "$USER_HOME"
+WS=$USER_HOME/catkin_ws
+[ "${#WS}" -ge 40 ] || fail "the workspace path $WS is shorter than 40 characters"
+
+# The README's catkin blocks, verbatim but for the repository's URL.
+readme_block() { # the ```sh block of README.md holding the line that matches $1
+  awk -v pat="$1" '/^```sh/ {inb = 1; n = 0; hit = 0; next}
+    /^```/ && inb {inb = 0; if (hit) {for (i = 1; i <= n; i++) print b[i]; exit}; next}
+    inb {b[++n] = $0; if (index($0, pat)) hit = 1}' "$ROOT/README.md"
+}
+BLOCK=$(readme_block "catkin_make -D")
+TOOLS=$(readme_block "catkin build")
+[ -n "$BLOCK" ] || fail "README.md has no \`\`\`sh block with catkin_make -D"
+[ -n "$TOOLS" ] || fail "README.md has no \`\`\`sh block with catkin build"
+grep -q "<this repository>" <<<"$BLOCK" || fail "README's catkin block clones no '<this repository>'"
+[ "$FAIL" = 0 ] || finish
+{
+  echo "set -e -x"
+  while IFS= read -r line; do
+    case "$line" in
+      rosdep\ install*) echo "# left out (needs the network for rosdep's database): $line" ;;
+      *) echo "${line//<this repository>/$REPO}" ;;
+    esac
+  done <<<"$BLOCK"
+  # the named subset of the tests, from the workspace, with the README's environment
+  # (PMRAC_ROSTEST_LOCK: a lock file to hold while the rostest's master runs, where engineers
+  # share a machine)
+  lock=${PMRAC_ROSTEST_LOCK:+flock $PMRAC_ROSTEST_LOCK }
+  echo "${lock}catkin_make run_tests_preadaptive_mrac_gtest_test_attention" \
+    "run_tests_preadaptive_mrac_rostest_test_ros_lockstep__mode_rac__shape_nodelet__name_suffix__envelope__test_plant_envelope.test"
+  echo 'catkin_test_results build/test_results/preadaptive_mrac'
+} >"$W/readme.sh"
+
+# ccache without changing the user's command.
 if command -v ccache >/dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-  export CCACHE_BASEDIR=$WS
+  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR=$W
 fi
+# A clean environment, as in a user's new shell (Debian's ROS lives in /usr).
+unset ROS_PACKAGE_PATH CMAKE_PREFIX_PATH PYTHONPATH LD_LIBRARY_PATH PKG_CONFIG_PATH \
+  PREADAPTIVE_MRAC_CONFIG_DIR ROS_MASTER_URI ROSLISP_PACKAGE_DIRECTORIES
+export MAKEFLAGS=-j${PMRAC_WS_JOBS:-2}
 t0=$(date +%s)
-(cd "$WS" && catkin_make install -j"${PMRAC_WS_JOBS:-2}" -DCMAKE_BUILD_TYPE=Release \
-  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=OFF \
-  -DPREADAPTIVE_MRAC_BUILD_BENCH=OFF "${launcher[@]}") >"$W/build.log" 2>&1
+(cd "$W" && HOME=$USER_HOME ROS_HOME=$W/ros_home bash "$W/readme.sh") >"$W/build.log" 2>&1
+rc=$?
+echo "README's catkin block in $WS (${#WS} characters), catkin_make with testing on, and" \
+  "the named tests: exit $rc in $(($(date +%s) - t0)) s"
+if [ "$rc" != 0 ]; then
+  grep -E "^\+ |File name too long|Cannot open file|Generate step failed" "$W/build.log" | tail -4 | cut -c1-400 | sed 's/^/    /'
+  tail -12 "$W/build.log" | cut -c1-300 | sed 's/^/    /'
+  fail "the README's catkin commands"
+  finish
+fi
+grep -q "CATKIN_ENABLE_TESTING.*=ON" "$WS/build/CMakeCache.txt" 2>/dev/null ||
+  fail "catkin_make built with testing off"
+grep -E "^Summary: " "$W/build.log" | tail -1 | sed 's/^/    /'
+# Every rostest target's name fits a file name in any workspace (rostest writes files named so).
+long=$(make -C "$WS/build" help 2>/dev/null | sed -n 's/^\.\.\. //p' | awk 'length($0) > 200')
+[ -z "$long" ] || fail "target names over 200 characters: $long"
+
+t0=$(date +%s)
+(cd "$WS" && catkin_make install) >"$W/install.log" 2>&1
 rc=$?
 echo "catkin_make install: exit $rc in $(($(date +%s) - t0)) s"
 if [ "$rc" != 0 ]; then
-  tail -30 "$W/build.log" | sed 's/^/    /'
-  echo "$TEST_NAME: FAILED (logs in $W)"
-  exit 1
+  tail -30 "$W/install.log" | sed 's/^/    /'
+  fail "catkin_make install"
+  finish
 fi
-rm -rf "$WS/src" "$WS/build" "$WS/devel"
+# catkin build (catkin-tools), the README's line, in the same workspace.
+t0=$(date +%s)
+(cd "$WS" && rm -rf build devel && {
+  set -e
+  while IFS= read -r line; do
+    echo "+ $line"
+    HOME=$USER_HOME bash -c "$line"
+  done <<<"$TOOLS"
+  set +u
+  # shellcheck disable=SC1091
+  source devel/setup.bash
+  rosrun preadaptive_mrac preadapt_sim --scenario 1 --mode rac >/dev/null
+}) >"$W/catkin_build.log" 2>&1
+rc=$?
+echo "catkin build and preadapt_sim from its devel space: exit $rc in $(($(date +%s) - t0)) s"
+if [ "$rc" != 0 ]; then
+  tail -20 "$W/catkin_build.log" | sed 's/^/    /'
+  fail "catkin build"
+  finish
+fi
+
+rm -rf "$WS/src" "$WS/build" "$WS/devel" "$WS/logs" "$WS/.catkin_tools"
 
 # A clean environment: only the install space (Debian's ROS lives in /usr).
 unset ROS_PACKAGE_PATH CMAKE_PREFIX_PATH PYTHONPATH LD_LIBRARY_PATH PKG_CONFIG_PATH \

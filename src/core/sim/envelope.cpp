@@ -1,14 +1,27 @@
 #include "preadaptive_mrac/core/sim/envelope.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "preadaptive_mrac/core/schema/params.hpp"
 
 namespace preadaptive_mrac {
 
+namespace {
+// A time for a person: step * dt carries rounding (5.0040000000000004); microseconds suffice.
+std::string formatTime(double t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6f", t);
+  std::string s(buf);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (!s.empty() && s.back() == '.') s.pop_back();
+  return s;
+}
+}  // namespace
+
 std::string EnvelopeExit::describe() const {
   if (!exited) return "";
-  std::string s = "t = " + formatNumber(t) + " s (step " + std::to_string(step) + "): ";
+  std::string s = "t = " + formatTime(t) + " s (step " + std::to_string(step) + "): ";
   if (bound == "non_finite") {
     s += "the state or command is not finite (u = " + formatNumber(u_command) + ", x = [";
     for (Eigen::Index i = 0; i < x.size(); ++i) s += (i ? ", " : "") + formatNumber(x[i]);
@@ -16,7 +29,7 @@ std::string EnvelopeExit::describe() const {
   }
   std::string end;
   if (non_finite && non_finite_t > t)
-    end = "; the state was not finite at t = " + formatNumber(non_finite_t) + " s";
+    end = "; the state was not finite at t = " + formatTime(non_finite_t) + " s";
   const char* what = bound == "alpha" ? "|alpha|" : bound == "pitch_rate" ? "|q|" : "|u|";
   const char* unit = bound == "pitch_rate" ? " rad/s" : " rad";
   return s + what + " = " + formatNumber(value) + unit + " > " + formatNumber(limit) + unit +

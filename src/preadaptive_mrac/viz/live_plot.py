@@ -196,6 +196,12 @@ class Plot:
                         s.v.popleft()
 
 
+def window_title(node_name, title, specs):
+    """The window's title: what it plots and which node draws it, so two windows differ (the
+    default, matplotlib's "Figure 1", is the same for every process)."""
+    return '%s (%s)' % (title or ' '.join(specs), node_name)
+
+
 def main(description=__doc__):
     ap = argparse.ArgumentParser(
         prog='live_plot',
@@ -259,6 +265,7 @@ def main(description=__doc__):
     ax.grid(True, alpha=0.3)
     if args.title:
         ax.set_title(args.title)
+    fig.canvas.manager.set_window_title(window_title(rospy.get_name(), args.title, args.specs))
     lines = {}
     if not args.headless:
         plt.show(block=False)

@@ -5,8 +5,14 @@ page, for test/scripts/docs_commands.sh (issue 33, item 4).
                                   # its reason, and "# SKIPPED: <reason>" lines on stderr
 
 A command is a line of a ```sh block (a trailing backslash joins the next line; a heredoc runs
-to its end marker). The commands SKIPS matches are left out, each with its reason; every other
-command runs, in page order, in one bash session that starts at the repository root.
+to its end marker), or a whole ```python block (run by /usr/bin/python3, ROS's, within
+PYTHON_TIMEOUT s: a snippet that waits without end fails). The commands SKIPS matches are left
+out, each with its reason; every other command runs, in page order, in one bash session that
+starts at the repository root. A command BACKGROUND matches is a run the reader leaves going in
+one shell while typing the next commands in a second: it runs in the background, the page goes
+on once its controller serves dynamic_reconfigure, and a command that reads what the run wrote
+(AFTER_BACKGROUND) waits for its end. Commands that need such a run (NEEDS_RUN) are left out
+only on pages without one.
 """
 
 import re
@@ -47,18 +53,32 @@ SKIPS = [
         'needs the realtime run above, left out: test/ros/reconfigure.test changes parameters of a '
         'running controller',
     ),
-    (r'~/tuning/', 'reads the bag of the realtime run above, left out'),
 ]
+# Skipped only where the page has no background run.
+NEEDS_RUN = [r'^rosrun dynamic_reconfigure dynparam\b']
+# A realtime run without windows that ends by itself, with commands for a second shell after it.
+BACKGROUND = [
+    r'^roslaunch preadaptive_mrac scenario\.launch clock:=realtime mode:=\w+ record:=true'
+]
+# Reads the bag of the background run: waits for the run's end.
+AFTER_BACKGROUND = [r'~/tuning/']
+PYTHON_TIMEOUT = 60
+STOP_ON_EXIT = 'trap \'kill -INT "$PMRAC_BACKGROUND" 2>/dev/null && wait "$PMRAC_BACKGROUND"\' EXIT'
+# The background run's controller serves dynamic_reconfigure (then the second shell starts).
+WAIT_SERVED = (
+    'for _ in $(seq 240); do rosservice list 2>/dev/null | grep -q '
+    '"mrac_controller/reconfigure/set_parameters" && break; sleep 0.5; done'
+)
 
 
 def blocks(text):
-    """The ```sh blocks of a page: [(first line number, [lines])]."""
-    out, cur, start = [], None, 0
+    """The ```sh and ```python blocks of a page: [(first line number, language, [lines])]."""
+    out, cur, start, lang = [], None, 0, None
     for n, line in enumerate(text.splitlines(), 1):
-        if cur is None and line.strip() == '```sh':
-            cur, start = [], n + 1
+        if cur is None and line.strip() in ('```sh', '```python'):
+            cur, start, lang = [], n + 1, line.strip()[3:]
         elif cur is not None and line.strip() == '```':
-            out.append((start, cur))
+            out.append((start, lang, cur))
             cur = None
         elif cur is not None:
             cur.append(line)
@@ -86,11 +106,22 @@ def commands(lines):
     return out
 
 
-def skip_reason(cmd):
+def skip_reason(cmd, background):
     for pattern, reason in SKIPS:
+        if background and any(re.search(p, cmd) for p in NEEDS_RUN):
+            continue
         if re.search(pattern, cmd):
             return pattern, reason
     return None, None
+
+
+def python_command(lines):
+    """A ```python block as one shell command."""
+    body = '\n'.join(lines)
+    return "timeout %d /usr/bin/python3 - <<'PMRAC_PYTHON'\n%s\nPMRAC_PYTHON" % (
+        PYTHON_TIMEOUT,
+        body,
+    )
 
 
 def script(page, build):
@@ -99,10 +130,26 @@ def script(page, build):
         text = f.read()
     used = set()
     out = ['set -eE -o pipefail', 'trap \'echo "FAILED: $BASH_COMMAND" >&2\' ERR']
-    for start, lines in blocks(text):
-        for cmd in commands(lines):
-            pattern, reason = skip_reason(cmd)
-            first = cmd.splitlines()[0]
+    background = False
+    for start, lang, lines in blocks(text):
+        cmds = [python_command(lines)] if lang == 'python' else commands(lines)
+        for cmd in cmds:
+            first = cmd.splitlines()[0] if lang == 'sh' else 'python: ' + lines[0]
+            if any(re.search(p, cmd) for p in BACKGROUND):
+                background = True
+                out.append(
+                    'echo %s' % shlex.quote('+ %s:%d: (background) %s' % (page, start, first))
+                )
+                out.append('%s > "$HOME/background_run.log" 2>&1 &' % cmd)
+                out.append('PMRAC_BACKGROUND=$!')
+                # a page that fails before the run's end stops the run
+                out.append(STOP_ON_EXIT)
+                out.append(WAIT_SERVED)
+                continue
+            if background and any(re.search(p, cmd) for p in AFTER_BACKGROUND):
+                out.append('wait "$PMRAC_BACKGROUND"')
+                background = False
+            pattern, reason = skip_reason(cmd, background)
             if reason:
                 used.add(pattern)
                 sys.stderr.write('# SKIPPED: %s:%d: %s -- %s\n' % (page, start, first, reason))
@@ -112,6 +159,8 @@ def script(page, build):
             cmd = cmd.replace('source build/devel/setup.bash', 'source %s/devel/setup.bash' % build)
             out.append('echo %s' % shlex.quote('+ %s:%d: %s' % (page, start, first)))
             out.append(cmd)
+    if background:
+        out.append('wait "$PMRAC_BACKGROUND"')
     return '\n'.join(out) + '\n', used
 
 
