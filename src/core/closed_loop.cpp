@@ -44,6 +44,29 @@ void MetricsAccumulator::add(double t, double dt, double e, double u) {
   m_.max_abs_u = std::max(m_.max_abs_u, std::abs(u));
 }
 
+void MetricsAccumulator::addApplied(double t, double dt, double u_applied) {
+  const int wi = windowOf(t);
+  WindowMetrics& w = m_.windows[static_cast<size_t>(wi)];
+  EffortMetrics& f = m_.effort;
+  const double a = std::abs(u_applied), step = std::abs(u_applied - prev_applied_);
+  f.peak_abs_u = std::max(f.peak_abs_u, a);
+  // At a limit within rounding: the limiter returns the limit itself (or u_prev + max_rate dt).
+  constexpr double kTol = 1e-9;
+  const bool travel = limits_.enabled && a >= limits_.max_deflection * (1.0 - kTol);
+  const bool rate = limits_.enabled && step >= limits_.max_rate * dt * (1.0 - kTol);
+  if (travel) f.time_at_travel += dt;
+  if (rate) f.time_at_rate += dt;
+  if (travel || rate) w.time_at_limit += dt;
+  const bool steady =
+      t >= w.t_end - EffortMetrics::kSteadyFraction * (w.t_end - w.t_start) - 0.5 * dt;
+  if (steady && prev_steady_window_ == wi) {
+    w.steady_tv += step;
+    f.steady_tv += step;
+  }
+  prev_steady_window_ = steady ? wi : -1;
+  prev_applied_ = u_applied;
+}
+
 void MetricsAccumulator::addEvent(const Event& ev) {
   WindowMetrics& w = m_.windows[static_cast<size_t>(windowOf(ev.t))];
   if (ev.type == Event::Type::kOnset) ++w.onsets;
@@ -64,6 +87,7 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
   std::vector<Eigen::VectorXd> wtheta;
   for (const auto& s : scenario_.theta) wtheta.push_back(s.theta);
   MetricsAccumulator acc(scenario_.switchTimes(), scenario_.endTime(), wtheta);
+  acc.setLimits(plant_cfg_.actuator);
   ctl_->reset();
   const std::int64_t steps = sim.totalSteps();
   if (opt.record_series) {
@@ -118,6 +142,7 @@ SimResult ClosedLoop::run(const SimOptions& opt) {
       break;
     }
     sim.advance(o.u);
+    acc.addApplied(t, dt, sim.lastApplied());
     if (conditions) res.series.conditions.push_back(completeStep(before, sim.conditions()));
     if (sim.nonFinite()) break;  // nothing after a non-finite state means anything
   }

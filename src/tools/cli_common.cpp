@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -110,6 +111,33 @@ std::vector<std::string> splitTopLevel(const std::string& text) {
   return out;
 }
 
+std::string withEffort(const std::string& json, const RunMetrics& m) {
+  nlohmann::ordered_json e;
+  e["peak_abs_u"] = m.effort.peak_abs_u;
+  e["time_at_travel_limit"] = m.effort.time_at_travel;
+  e["time_at_rate_limit"] = m.effort.time_at_rate;
+  e["steady_tv"] = m.effort.steady_tv;
+  e["steady_fraction"] = EffortMetrics::kSteadyFraction;
+  e["window_time_at_limit"] = nlohmann::ordered_json::array();
+  e["window_steady_tv"] = nlohmann::ordered_json::array();
+  for (const auto& w : m.windows) {
+    e["window_time_at_limit"].push_back(w.time_at_limit);
+    e["window_steady_tv"].push_back(w.steady_tv);
+  }
+  const size_t close = json.find_last_of('}');
+  if (close == std::string::npos) return json;
+  return json.substr(0, close) + ",\"effort\":" + e.dump() + json.substr(close);
+}
+
+std::string elevatorPresetPath(const std::string& flag, const std::string& preset) {
+  const std::string path = preset == "b747" ? configDir() + "/plant/elevator_b747.yaml" : preset;
+  if (std::ifstream(path).good()) return path;
+  throw UsageError(flag +
+                   ": expected b747, ideal or the path of a plant YAML with a "
+                   "plant.actuator section; no file '" +
+                   path + "'");
+}
+
 PreparedRun prepare(const RunRequest& req) {
   PreparedRun run;
   ParamValue tree = ParamValue::makeMap();
@@ -118,6 +146,7 @@ PreparedRun prepare(const RunRequest& req) {
       req.controller_path.empty() ? defaultControllerPath() : req.controller_path;
   try {
     tree.merge(loadYamlFile(plant));
+    for (const auto& p : req.plant_presets) tree.merge(loadYamlFile(p));
     tree.merge(loadYamlFile(controller));
     try {
       tree.merge(loadYamlFile(scenarioPath(req.scenario)));

@@ -30,8 +30,9 @@ int runTool(const char* tool, const std::function<int()>& body);
 /// \brief One run as the command line describes it.
 struct RunRequest {
   std::string scenario = "1";
-  std::string plant_path;       ///< empty: the package's config/plant/b747.yaml
-  std::string controller_path;  ///< empty: config/controller/default.yaml
+  std::string plant_path;                  ///< empty: the package's config/plant/b747.yaml
+  std::vector<std::string> plant_presets;  ///< YAML merged over the plant file, in order
+  std::string controller_path;             ///< empty: config/controller/default.yaml
   std::optional<std::string> mode;
   std::optional<std::uint64_t> seed;
   std::optional<double> dt;
@@ -79,6 +80,16 @@ CLI::Option* addTexts(CLI::App& app, const std::string& name, std::vector<std::s
 /// generated --help (exit code 0). Any parse problem throws UsageError with one line in this
 /// package's words ("unknown argument '--x' (see --help)", "--seed: missing value").
 bool parseCommandLine(CLI::App& app, int argc, char** argv);
+
+/// \brief A run's JSON summary line with the elevator effort (closed_loop.hpp EffortMetrics)
+/// added as its last key, "effort": {peak_abs_u, time_at_travel_limit, time_at_rate_limit,
+/// steady_tv, steady_fraction, window_time_at_limit [s], window_steady_tv [rad]}; the keys
+/// before it unchanged byte for byte.
+std::string withEffort(const std::string& json, const RunMetrics& m);
+
+/// \brief The path of an elevator preset: "b747" is config/plant/elevator_b747.yaml, anything
+/// else a YAML path; throws UsageError naming `flag` when the file does not exist.
+std::string elevatorPresetPath(const std::string& flag, const std::string& preset);
 
 double parseDouble(const std::string& flag, const std::string& text);
 std::uint64_t parseSeed(const std::string& flag, const std::string& text);

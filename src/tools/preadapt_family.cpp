@@ -41,7 +41,13 @@ const char* kAbout =
     "the controller designs on the nominal plant (controller.model); runs.jsonl records each "
     "scenario's true A and B and the factors (docs/mismatch.md). --faults (plant.engine jsbsim "
     "only) gives each regime physical faults of the aircraft, drawn per regime from the family "
-    "seed like --effectiveness LO:HI, the first segment nominal (docs/jsbsim.md). Exit code 2 on "
+    "seed like --effectiveness LO:HI, the first segment nominal (docs/jsbsim.md). Every run flies "
+    "the aircraft's elevator (--elevator b747: config/plant/elevator_b747.yaml over the plant "
+    "file, travel 0.35 rad, rate 0.65 rad/s; --elevator ideal: the plant file alone, the paper's "
+    "unlimited elevator), and with limits on the generator draws only regimes whose trim "
+    "deflection is within --trim-fraction of the travel, saying how many it rejected. Beside the "
+    "ratios each mode's elevator effort: peak |u| applied, time at the travel and rate limits, "
+    "steady-flight total variation, fraction of each switch window at a limit. Exit code 2 on "
     "bad input.";
 
 // "LO:HI" of a condition flag, each end within [min, max] (min excluded when min_open).
@@ -120,7 +126,16 @@ int main(int argc, char** argv) {
     cli::RunOptionText text;
     std::string seed_t, count_t, modes_t, noise_t, regimes_t, segments_t, ref_t, jobs_t;
     std::string delay_t, lag_t, lambda_t, gust_t, mismatch_t, faults_t;
+    std::string elevator_t = "b747", trim_t;
     cli::addRunOptions(app, &base, &text, false);
+    cli::addText(app, "--elevator", &elevator_t,
+                 "the elevator's travel and rate: b747 (default, config/plant/elevator_b747.yaml "
+                 "merged over the plant file), ideal (the plant file's own, the paper's unlimited "
+                 "elevator) or a YAML path");
+    cli::addText(app, "--trim-fraction", &trim_t,
+                 "with elevator limits, regimes whose trim deflection exceeds this fraction of "
+                 "the travel are drawn again (default 0.5; 1 = the whole travel; none = every "
+                 "regime drawn is kept, as without limits)");
     cli::addText(app, "--seed", &seed_t, "the family's generator seed (required)");
     cli::addText(app, "--count", &count_t, "scenarios (default 30)");
     cli::addText(app, "--modes", &modes_t,
@@ -187,6 +202,15 @@ int main(int argc, char** argv) {
       jobs = static_cast<unsigned>(j);
     }
     if (!seed) throw cli::UsageError("--seed is required (the family's generator seed)");
+    if (elevator_t != "ideal")
+      base.plant_presets.push_back(cli::elevatorPresetPath("--elevator", elevator_t));
+    double trim_fraction = 0.5;
+    const bool every_regime = trim_t == "none";
+    if (!trim_t.empty() && !every_regime) {
+      trim_fraction = cli::parseDouble("--trim-fraction", trim_t);
+      if (!(trim_fraction > 0.0 && trim_fraction <= 1.0))
+        throw cli::UsageError("--trim-fraction: expected a fraction in (0, 1], got " + trim_t);
+    }
     // The conditions go in as --set overrides, so the keys' own validation names them.
     std::string conditions;
     // A range LO:HI is drawn per scenario below instead (the keys are set on each run).
@@ -254,6 +278,30 @@ int main(int argc, char** argv) {
           "plant.engine jsbsim (add --set plant.engine=jsbsim); the linear model has no CG or "
           "aerodynamics (use --effectiveness on it)");
     if (!out_dir.empty()) ::mkdir(out_dir.c_str(), 0755);
+    // Feasible regimes: only with limits (off, the draws are as they always were).
+    const ActuatorLimits& limits = prepared.cfg.plant.actuator;
+    std::optional<TrimCheck> trim;
+    if (limits.enabled && !every_regime) {
+      // The controller's design model where it has one (its reference model), else the plant.
+      const auto& model = prepared.cfg.controller.model;
+      const auto& pl = prepared.cfg.plant;
+      const Eigen::RowVectorXd K =
+          prepared.cfg.design ? prepared.cfg.design->K : Eigen::RowVectorXd();
+      if (K.size() == spec.n) {
+        const double r_max = spec.ref_every > 0.0
+                                 ? std::max(std::abs(spec.r_min), std::abs(spec.r_max))
+                                 : std::abs(spec.r);
+        trim = makeTrimCheck(model.A.size() ? model.A : pl.A, model.B.size() ? model.B : pl.B,
+                             model.B1r.size() ? model.B1r : pl.B1r, K, r_max,
+                             trim_fraction * limits.max_deflection);
+      }
+    }
+    int rejected = 0;
+    nlohmann::ordered_json elevator_json;
+    elevator_json["preset"] = elevator_t;
+    elevator_json["enabled"] = limits.enabled;
+    elevator_json["max_deflection"] = limits.max_deflection;
+    elevator_json["max_rate"] = limits.max_rate;
 
     std::vector<Scenario> scenarios;
     std::vector<std::vector<bool>> repeated;
@@ -271,7 +319,7 @@ int main(int argc, char** argv) {
       return v;
     };
     for (int k = 0; k < count; ++k) {
-      scenarios.push_back(recurringScenario(spec, *seed, k));
+      scenarios.push_back(recurringScenario(spec, *seed, k, trim ? &*trim : nullptr, &rejected));
       if (lambda) scenarios.back().effectiveness = {{scenarios.back().endTime(), *lambda}};
       if (lambda_r.drawn()) {
         auto& sc = scenarios.back();
@@ -379,6 +427,14 @@ int main(int argc, char** argv) {
           for (const auto& w : res.metrics.windows) job.digest.peak.push_back(w.peak_abs_e);
           job.digest.iae = res.metrics.iae;
           job.digest.max_abs_u = res.metrics.max_abs_u;
+          const EffortMetrics& ef = res.metrics.effort;
+          job.digest.peak_applied = ef.peak_abs_u;
+          job.digest.time_at_travel = ef.time_at_travel;
+          job.digest.time_at_rate = ef.time_at_rate;
+          job.digest.steady_tv = ef.steady_tv;
+          for (const auto& w : res.metrics.windows)
+            job.digest.limit_frac.push_back(
+                w.t_end > w.t_start ? w.time_at_limit / (w.t_end - w.t_start) : 0.0);
           job.exit = res.envelope_exit;
           if (res.envelope_exit.non_finite) {
             // The run ended at its non-finite state: lost, as a run that went on in NaN was
@@ -398,7 +454,7 @@ int main(int argc, char** argv) {
             info.seed = job.cfg.controller.seed;
             info.dt = opt.dt;
             info.overrides = prepared.info.overrides;  // every run's --set (and fixed conditions)
-            job.json = runSummaryJson(info, ctl, res);
+            job.json = cli::withEffort(runSummaryJson(info, ctl, res), res.metrics);
             const auto& d = drawn[static_cast<size_t>(job.scenario)];
             if (!d.empty()) {
               nlohmann::ordered_json line = nlohmann::ordered_json::parse(job.json);
@@ -442,18 +498,43 @@ int main(int argc, char** argv) {
         "repeated-switch windows\n",
         static_cast<unsigned long long>(*seed), count, spec.regimes, spec.segments, noise, rep);
     if (!conditions.empty()) std::printf("plant conditions: %s\n", conditions.c_str());
+    if (trim) {
+      elevator_json["trim_fraction"] = trim_fraction;
+      elevator_json["rejected_regimes"] = rejected;
+      std::printf(
+          "elevator: %s, travel %g rad, rate %g rad/s; feasible regimes (trim within %g of the "
+          "travel at |r| %g): %d drawn regimes rejected\n",
+          elevator_t.c_str(), limits.max_deflection, limits.max_rate, trim_fraction, trim->r_max,
+          rejected);
+    } else if (limits.enabled) {
+      std::printf("elevator: %s, travel %g rad, rate %g rad/s; every regime drawn kept\n",
+                  elevator_t.c_str(), limits.max_deflection, limits.max_rate);
+    } else {
+      std::printf("elevator: %s, no travel or rate limit (the paper's idealised elevator)\n",
+                  elevator_t.c_str());
+    }
     for (const auto& kv : span)
       std::printf("drawn: %s in [%.6g, %.6g]\n", kv.first.c_str(), kv.second.first,
                   kv.second.second);
-    std::printf("%-15s %7s %7s %7s %7s | %8s %7s | %8s %5s | %8s %8s\n", "mode", "better", "halved",
-                "median", "worst", "all:med", "worst", "IAE:wst", ">5%", "u/rac", "u/oracle");
+    // Effort beside the ratios, after " || ": applied elevator's peak |u| (median, worst) [rad],
+    // time at the travel and rate limits (median) [s], steady-flight total variation (median)
+    // [rad], fraction of a switch window at a limit (median, worst).
+    std::printf(
+        "%-15s %7s %7s %7s %7s | %8s %7s | %8s %5s | %8s %8s || %6s %6s %7s %7s %7s %6s %6s\n",
+        "mode", "better", "halved", "median", "worst", "all:med", "worst", "IAE:wst", ">5%",
+        "u/rac", "u/oracle", "|u|med", "|u|wst", "trav[s]", "rate[s]", "TV:med", "lim:md",
+        "lim:wst");
     for (const auto& m : modes) {
       const FamilySummary s =
           summarizeFamily(repeated, rac, digests(m), have_oracle ? &oracle : nullptr);
-      std::printf("%-15s %6.1f%% %6.1f%% %7.3f %7.3f | %8.3f %7.3f | %8.3f %5d | %8.3f %8.3f\n",
-                  m.c_str(), 100.0 * s.frac_better, 100.0 * s.frac_halved, s.median_ratio,
-                  s.worst_ratio, s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio,
-                  s.iae_over, s.worst_u_rac, s.worst_u_oracle);
+      const EffortSummary ef = summarizeEffort(digests(m));
+      std::printf(
+          "%-15s %6.1f%% %6.1f%% %7.3f %7.3f | %8.3f %7.3f | %8.3f %5d | %8.3f %8.3f || %6.3f "
+          "%6.3f %7.2f %7.2f %7.4f %5.1f%% %5.1f%%\n",
+          m.c_str(), 100.0 * s.frac_better, 100.0 * s.frac_halved, s.median_ratio, s.worst_ratio,
+          s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio, s.iae_over, s.worst_u_rac,
+          s.worst_u_oracle, ef.median_peak_u, ef.worst_peak_u, ef.median_travel, ef.median_rate,
+          ef.median_tv, 100.0 * ef.median_window_limit, 100.0 * ef.worst_window_limit);
       if (s.lost_runs > 0) std::printf("%-15s %d runs lost (diverged)\n", m.c_str(), s.lost_runs);
       nlohmann::ordered_json exits = nlohmann::ordered_json::array();
       for (const auto& job : list) {
@@ -487,6 +568,17 @@ int main(int argc, char** argv) {
         o["ratios"] = s.ratios;
         if (s.lost_runs > 0) o["lost_runs"] = s.lost_runs;
         if (!exits.empty()) o["envelope_exits"] = exits;  // absent: every run stayed inside
+        o["effort"] = {{"median_peak_abs_u", ef.median_peak_u},
+                       {"worst_peak_abs_u", ef.worst_peak_u},
+                       {"median_time_at_travel_limit", ef.median_travel},
+                       {"worst_time_at_travel_limit", ef.worst_travel},
+                       {"median_time_at_rate_limit", ef.median_rate},
+                       {"worst_time_at_rate_limit", ef.worst_rate},
+                       {"median_steady_tv", ef.median_tv},
+                       {"worst_steady_tv", ef.worst_tv},
+                       {"median_window_frac_at_limit", ef.median_window_limit},
+                       {"worst_window_frac_at_limit", ef.worst_window_limit}};
+        o["elevator"] = elevator_json;
         std::printf("%s\n", o.dump().c_str());
       }
     }

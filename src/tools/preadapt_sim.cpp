@@ -31,6 +31,12 @@ int main(int argc, char** argv) {
     cli::addText(app, "--csv", &csv, "write the time series to this CSV file");
     app.add_flag("--json", json, "print one JSON summary line (the last line)");
     cli::addText(app, "--weights-in", &req.weights_in, "load network weights and regimes");
+    std::string elevator;
+    cli::addText(app, "--elevator", &elevator,
+                 "b747 (config/plant/elevator_b747.yaml, the aircraft's travel and rate) or a "
+                 "YAML path, merged over the plant file, or ideal (the plant file's own); "
+                 "default: b747 with plant.engine jsbsim, else the plant file's own elevator "
+                 "(config/plant/b747.yaml: unlimited, as in the paper)");
     cli::addText(app, "--weights-out", &weights_out, "save network weights and regimes");
     bool list_modes = false;
     app.add_flag("--list-modes", list_modes,
@@ -43,10 +49,17 @@ int main(int argc, char** argv) {
     if (app.count("--scenario") == 0)
       throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
     cli::finishRunOptions(text, &req);
+    if (!elevator.empty() && elevator != "ideal")
+      req.plant_presets.push_back(cli::elevatorPresetPath("--elevator", elevator));
     if (app.count("--mode")) req.mode = mode;
     if (app.count("--seed")) req.seed = cli::parseSeed("--seed", seed);
 
     cli::PreparedRun run = cli::prepare(req);
+    // The JSBSim aircraft is beyond the paper: it flies the aircraft's elevator unless told.
+    if (elevator.empty() && run.cfg.plant.engine == PlantEngineKind::kJsbsim) {
+      req.plant_presets.push_back(cli::elevatorPresetPath("--elevator", "b747"));
+      run = cli::prepare(req);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Controller> ctl;
     SimResult res = cli::execute(run, !csv.empty(), &ctl);
@@ -59,7 +72,7 @@ int main(int argc, char** argv) {
     if (!csv.empty()) writeSeriesCsv(csv, res.series);
     if (!weights_out.empty()) saveWeights(weights_out, ctl->network().state());
     if (json) {
-      std::cout << runSummaryJson(run.info, *ctl, res) << std::endl;
+      std::cout << cli::withEffort(runSummaryJson(run.info, *ctl, res), res.metrics) << std::endl;
     } else {
       std::printf("scenario %s, mode %s, seed %llu, dt %g s: %lld steps in %.3f s\n",
                   run.info.scenario.c_str(), run.info.mode.c_str(),
@@ -79,6 +92,12 @@ int main(int argc, char** argv) {
       std::printf("events: %zu; IAE %.6g rad s, peak |e| %.6g rad, max |u| %.6g rad\n",
                   res.events.size(), res.metrics.iae, res.metrics.peak_abs_e,
                   res.metrics.max_abs_u);
+      const EffortMetrics& ef = res.metrics.effort;
+      std::printf(
+          "elevator effort: peak |u| applied %.6g rad, %.4g s at the travel limit, %.4g s at the "
+          "rate limit, steady-flight total variation %.6g rad (last %g of each window)\n",
+          ef.peak_abs_u, ef.time_at_travel, ef.time_at_rate, ef.steady_tv,
+          EffortMetrics::kSteadyFraction);
     }
     return 0;
   });

@@ -157,3 +157,50 @@ TEST(ClosedLoop, PreadaptationResetsToTheNetworkOutput) {
   }
   EXPECT_GE(onsets, 3);
 }
+
+// The elevator effort is of the applied elevator: its peak, the time at the travel and at the
+// rate limit, and the total variation over the steady last half of each window.
+TEST(ClosedLoop, EffortCountsTheAppliedElevator) {
+  MetricsAccumulator acc({1.0}, 2.0, {});
+  ActuatorLimits lim;
+  lim.enabled = true;
+  lim.max_deflection = 0.3;
+  lim.max_rate = 1.0;  // 0.1 rad per step of 0.1 s
+  acc.setLimits(lim);
+  // Window 0 (0, 1]: up at the rate limit to the travel, held; window 1: a buzz of 0.01.
+  // Samples 0..10 (t <= 1.0) are window 0, 11..19 window 1.
+  const double u[] = {0.1, 0.2,  0.3, 0.3,  0.3, 0.3,  0.3, 0.3,  0.3, 0.3,
+                      0.3, 0.29, 0.3, 0.29, 0.3, 0.29, 0.3, 0.29, 0.3, 0.29};
+  for (int k = 0; k < 20; ++k) acc.addApplied(0.1 * k, 0.1, u[k]);
+  const auto& m = acc.metrics();
+  EXPECT_DOUBLE_EQ(m.effort.peak_abs_u, 0.3);
+  EXPECT_NEAR(m.effort.time_at_rate, 0.3, 1e-12);    // 0 -> 0.1 -> 0.2 -> 0.3
+  EXPECT_NEAR(m.effort.time_at_travel, 1.3, 1e-12);  // 9 samples + 4 in window 1
+  // Window 1's steady half is t >= 1.5: samples 15..19, four steps of 0.01 between them.
+  EXPECT_NEAR(m.windows[1].steady_tv, 0.04, 1e-12);
+  EXPECT_NEAR(m.windows[0].steady_tv, 0.0, 1e-12);
+  EXPECT_NEAR(m.effort.steady_tv, 0.04, 1e-12);
+  EXPECT_NEAR(m.windows[0].time_at_limit, 1.1, 1e-12);
+}
+
+// Without limits the applied elevator is the command: its peak is max|u| and no time is at a
+// limit; with the aircraft's elevator, no applied deflection exceeds the travel.
+TEST(ClosedLoop, EffortOfThePaperRunAndOfTheLimitedElevator) {
+  SimResult res;
+  RunConfig cfg = test::packageConfig("3");
+  runJson(cfg, "rac", 1, &res);
+  EXPECT_DOUBLE_EQ(res.metrics.effort.peak_abs_u, res.metrics.max_abs_u);
+  EXPECT_EQ(res.metrics.effort.time_at_travel, 0.0);
+  EXPECT_EQ(res.metrics.effort.time_at_rate, 0.0);
+  EXPECT_GT(res.metrics.effort.steady_tv, 0.0);
+  cfg.plant.actuator.enabled = true;
+  cfg.plant.actuator.max_deflection = 0.35;
+  cfg.plant.actuator.max_rate = 0.65;
+  runJson(cfg, "rac", 1, &res);
+  EXPECT_LE(res.metrics.effort.peak_abs_u, 0.35 + 1e-12);
+  EXPECT_GT(res.metrics.effort.time_at_travel + res.metrics.effort.time_at_rate, 0.0);
+  double at_limit = 0.0;
+  for (const auto& w : res.metrics.windows) at_limit += w.time_at_limit;
+  EXPECT_LE(at_limit, res.metrics.effort.time_at_travel + res.metrics.effort.time_at_rate + 1e-9);
+  EXPECT_GT(at_limit, 0.0);
+}

@@ -225,6 +225,60 @@ TEST(Family, SummaryCountsOnlyRepeatedWindows) {
   EXPECT_DOUBLE_EQ(s.worst_u_oracle, 1.2);
 }
 
+// A feasible regime: at the reference model's steady state, the trim deflection holds the
+// plant still (alpha = r, q and alpha constant); the generator with the check keeps only regimes
+// within the limit, counts the ones it threw away, and without it draws as before.
+TEST(Family, FeasibleRegimesTrimWithinTheTravel) {
+  const RunConfig cfg = readRunConfig([] {
+    ParamValue tree = ParamValue::makeMap();
+    tree.merge(loadYamlFile(defaultPlantPath()));
+    tree.merge(loadYamlFile(defaultControllerPath()));
+    tree.merge(loadYamlFile(scenarioPath("1")));
+    return tree;
+  }());
+  ASSERT_TRUE(cfg.design.has_value());
+  const auto& p = cfg.plant;
+  const TrimCheck c = makeTrimCheck(p.A, p.B, p.B1r, cfg.design->K, 0.1, 0.175);
+  const Eigen::Vector3d theta(2.0, 1.5, 3.0);
+  const Eigen::VectorXd x = c.x_per_r * 0.1;
+  const double u = c.trim(theta);
+  const Eigen::VectorXd xdot = p.A * x + p.B * (theta.dot(x) + u) + p.B1r * 0.1;
+  EXPECT_NEAR(xdot.norm(), 0.0, 1e-12) << xdot.transpose();
+  EXPECT_NEAR(x[1], 0.1, 1e-12);  // alpha = r
+  FamilySpec spec;
+  int rejected = 0;
+  for (int k = 0; k < 20; ++k) {
+    const Scenario s = recurringScenario(spec, 21, k, &c, &rejected);
+    for (size_t i = 1; i < s.theta.size(); ++i)
+      EXPECT_LE(std::abs(c.trim(s.theta[i].theta)), 0.175 + 1e-15);
+    EXPECT_EQ(scenarioToYaml(recurringScenario(spec, 21, k)),
+              scenarioToYaml(recurringScenario(spec, 21, k, nullptr, nullptr)));
+  }
+  EXPECT_GT(rejected, 0);  // scales up to 10 need more than half the travel
+  int none = 0;
+  const TrimCheck all = makeTrimCheck(p.A, p.B, p.B1r, cfg.design->K, 0.1, 1e9);
+  EXPECT_EQ(scenarioToYaml(recurringScenario(spec, 21, 3, &all, &none)),
+            scenarioToYaml(recurringScenario(spec, 21, 3)));
+  EXPECT_EQ(none, 0);
+}
+
+// Effort over a family's runs: medians and worst, the window fraction at a limit after the
+// first window.
+TEST(Family, EffortSummaryMediansAndWorst) {
+  std::vector<RunDigest> runs(3);
+  for (int k = 0; k < 3; ++k) {
+    runs[static_cast<size_t>(k)].peak_applied = 0.1 * (k + 1);
+    runs[static_cast<size_t>(k)].steady_tv = 0.01 * (3 - k);
+    runs[static_cast<size_t>(k)].limit_frac = {0.9, 0.1 * k, 0.0};
+  }
+  const EffortSummary s = summarizeEffort(runs);
+  EXPECT_DOUBLE_EQ(s.median_peak_u, 0.2);
+  EXPECT_DOUBLE_EQ(s.worst_peak_u, 0.3);
+  EXPECT_DOUBLE_EQ(s.median_tv, 0.02);
+  EXPECT_DOUBLE_EQ(s.worst_window_limit, 0.2);  // the first window's 0.9 is not a switch
+  EXPECT_DOUBLE_EQ(s.median_window_limit, 0.0);
+}
+
 #ifdef PMRAC_FAMILY_BIN
 #include <unistd.h>
 
@@ -361,6 +415,48 @@ TEST(FamilyTool, FaultsRefusedNamingTheFlag) {
     EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac " + c.first, &out), 2) << c.first;
     EXPECT_NE(out.find(c.second), std::string::npos) << c.first << "\n" << out;
   }
+}
+
+// Every family flies the aircraft's elevator by default (config/plant/elevator_b747.yaml), draws
+// regimes it can trim and says how many it rejected, and reports the effort beside the ratios;
+// --elevator ideal is the plant file's unlimited elevator, every regime kept.
+TEST(FamilyTool, AircraftElevatorByDefaultWithEffortAndRejections) {
+  const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_elevator";
+  std::string out;
+  ASSERT_EQ(
+      runTool("--seed 5 --count 2 --segments 6 --modes rac --json --jobs 1 --out-dir " + dir, &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("\nelevator: b747, travel 0.35 rad, rate 0.65 rad/s; feasible regimes (trim "
+                     "within 0.5 of the travel at |r| 0.1): "),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find(" || "), std::string::npos) << out;
+  EXPECT_NE(out.find("\"effort\":{\"median_peak_abs_u\":"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"rejected_regimes\":"), std::string::npos) << out;
+  std::ifstream runs(dir + "/runs.jsonl");
+  std::string line;
+  int n = 0;
+  while (std::getline(runs, line)) {
+    const std::string key = "\"effort\":{\"peak_abs_u\":";
+    const size_t at = line.find(key);
+    ASSERT_NE(at, std::string::npos) << line.substr(0, 200);
+    EXPECT_LE(std::stod(line.substr(at + key.size())), 0.35 + 1e-12);
+    EXPECT_NE(line.find("\"window_time_at_limit\":["), std::string::npos);
+    ++n;
+  }
+  EXPECT_EQ(n, 2);
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(
+      runTool("--seed 5 --count 2 --segments 6 --modes rac --json --jobs 1 --elevator ideal", &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("\nelevator: ideal, no travel or rate limit"), std::string::npos) << out;
+  EXPECT_EQ(out.find("rejected"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --elevator /nonexistent.yaml", &out), 2);
+  EXPECT_NE(out.find("--elevator: expected b747, ideal or the path"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --trim-fraction 0", &out), 2);
+  EXPECT_NE(out.find("--trim-fraction: expected a fraction in (0, 1]"), std::string::npos) << out;
 }
 
 TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {

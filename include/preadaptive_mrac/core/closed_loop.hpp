@@ -21,12 +21,28 @@ struct WindowMetrics {
   double iae = 0.0;             ///< integral |e| dt [rad s]
   double recovery_time = -1.0;  ///< switch to first RECOVERED event [s]; < 0 when none
   int onsets = 0, recoveries = 0;
+  double time_at_limit = 0.0;  ///< applied elevator at its travel or rate limit [s]
+  double steady_tv = 0.0;      ///< applied elevator's total variation over the steady part [rad]
+};
+
+/// \brief Elevator effort of a run: the elevator the plant applied (after the servo's delay,
+/// lag and limits), not the command.
+struct EffortMetrics {
+  /// The steady part of a window: its last kSteadyFraction (after the switch's transient).
+  static constexpr double kSteadyFraction = 0.5;
+  double peak_abs_u = 0.0;      ///< max |applied| [rad]
+  double time_at_travel = 0.0;  ///< |applied| at plant.actuator.max_deflection [s]
+  double time_at_rate = 0.0;    ///< |step change| at plant.actuator.max_rate dt [s]
+  /// Total variation sum |u_k - u_{k-1}| of the applied elevator over the steady part of every
+  /// window, summed [rad] (steady-flight buzz: 0 for a still elevator).
+  double steady_tv = 0.0;
 };
 
 /// \brief Whole-run metrics.
 struct RunMetrics {
   std::vector<WindowMetrics> windows;
   double iae = 0.0, peak_abs_e = 0.0, max_abs_u = 0.0;
+  EffortMetrics effort;
 };
 
 /// \brief Accumulates metrics sample by sample; used by the batch loop and by bag analysis.
@@ -38,11 +54,19 @@ class MetricsAccumulator {
   /// \brief One sample at t (held for dt) with error e and command u.
   void add(double t, double dt, double e, double u);
   void addEvent(const Event& ev);
+  /// \brief The elevator's limits, for the time at them (none when disabled).
+  void setLimits(const ActuatorLimits& limits) { limits_ = limits; }
+  /// \brief The elevator applied over [t, t + dt] (the sample after add(t, ...)); the first
+  /// sample's change is from 0, the actuator's rest.
+  void addApplied(double t, double dt, double u_applied);
   const RunMetrics& metrics() const { return m_; }
 
  private:
   int windowOf(double t);
   RunMetrics m_;
+  ActuatorLimits limits_;
+  double prev_applied_ = 0.0;
+  int prev_steady_window_ = -1;  ///< the window whose steady part held the previous sample
   // The window of the last look-up and its time: a later time searches on from there (the
   // same answer as a search from the first window; runs move forward in time).
   double hint_t_ = 0.0;

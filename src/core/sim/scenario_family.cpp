@@ -1,5 +1,6 @@
 #include "preadaptive_mrac/core/sim/scenario_family.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -30,15 +31,24 @@ std::uint64_t mix(std::uint64_t seed, std::uint64_t index) {
 }
 }  // namespace
 
-Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index) {
+Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index,
+                           const TrimCheck* feasible, int* rejected) {
   if (spec.regimes < 1 || spec.segments < 2 * spec.regimes || spec.n < 1)
     throw std::invalid_argument("family: need regimes >= 1 and segments >= 2 * regimes");
   Uniform u(mix(seed, static_cast<std::uint64_t>(index)));
   std::vector<Eigen::VectorXd> regimes;
   for (int k = 0; k < spec.regimes; ++k) {
-    const double s = std::exp(u.in(std::log(spec.min_scale), std::log(spec.max_scale)));
     Eigen::VectorXd th(spec.n);
-    for (int i = 0; i < spec.n; ++i) th[i] = s * (1.0 + spec.spread * u.in(-1.0, 1.0));
+    for (int attempt = 0;; ++attempt) {
+      if (attempt == 1000)
+        throw std::runtime_error(
+            "family: 1000 regimes in a row need more elevator to trim than the limit allows "
+            "(lower the scales or raise plant.actuator.max_deflection)");
+      const double s = std::exp(u.in(std::log(spec.min_scale), std::log(spec.max_scale)));
+      for (int i = 0; i < spec.n; ++i) th[i] = s * (1.0 + spec.spread * u.in(-1.0, 1.0));
+      if (feasible == nullptr || feasible->holds(th)) break;
+      if (rejected) ++*rejected;
+    }
     regimes.push_back(th);
   }
   // Visit order: every regime twice, the rest at random, no regime twice in a row.
@@ -196,6 +206,51 @@ double median(std::vector<double> v) {
 }
 double ratio(double a, double b) { return b > 0.0 ? a / b : (a > 0.0 ? INFINITY : 1.0); }
 }  // namespace
+
+double TrimCheck::trim(const Eigen::VectorXd& theta) const {
+  return r_max * (v_per_r - theta.dot(x_per_r));
+}
+
+TrimCheck makeTrimCheck(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
+                        const Eigen::VectorXd& B1r, const Eigen::RowVectorXd& K, double r_max,
+                        double limit) {
+  const Eigen::MatrixXd Am = A - B * K;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(Am);
+  if (!lu.isInvertible())
+    throw std::invalid_argument("trim check: the reference model A - B K is singular");
+  TrimCheck c;
+  c.x_per_r = -lu.solve(B1r);
+  c.v_per_r = -(K * c.x_per_r)(0);
+  c.r_max = std::abs(r_max);
+  c.limit = limit;
+  return c;
+}
+
+EffortSummary summarizeEffort(const std::vector<RunDigest>& runs) {
+  EffortSummary s;
+  std::vector<double> peak, travel, rate, tv, win;
+  for (const auto& r : runs) {
+    peak.push_back(r.peak_applied);
+    travel.push_back(r.time_at_travel);
+    rate.push_back(r.time_at_rate);
+    tv.push_back(r.steady_tv);
+    for (size_t w = 1; w < r.limit_frac.size(); ++w) win.push_back(r.limit_frac[w]);
+  }
+  const auto worst = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+  };
+  s.median_peak_u = median(peak);
+  s.worst_peak_u = worst(peak);
+  s.median_travel = median(travel);
+  s.worst_travel = worst(travel);
+  s.median_rate = median(rate);
+  s.worst_rate = worst(rate);
+  s.median_tv = median(tv);
+  s.worst_tv = worst(tv);
+  s.median_window_limit = median(win);
+  s.worst_window_limit = worst(win);
+  return s;
+}
 
 FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
                               const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,

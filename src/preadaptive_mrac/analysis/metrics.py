@@ -41,9 +41,69 @@ def _cum_trapz(y, t):
     return out
 
 
-def run_metrics(run):
+# The steady part of a window: its last half (closed_loop.hpp EffortMetrics::kSteadyFraction).
+STEADY_FRACTION = 0.5
+
+
+def effort_series(run):
+    """The elevator whose effort counts: (t, u, source), the applied elevator when the source
+    records it (the plant's, after the servo's delay, lag and limits), else the command; (None,
+    None, None) without either."""
+    if run.u_applied is not None and len(run.u_applied):
+        return np.asarray(run.t_applied, float), np.asarray(run.u_applied, float), 'applied'
+    if run.u is not None and len(run.u):
+        return np.asarray(run.t_u, float), np.asarray(run.u, float), 'command'
+    return None, None, None
+
+
+def effort(t, u, bounds, limits=None):
+    """The elevator effort as the batch tools count it (closed_loop.hpp EffortMetrics): sample
+    k holds u[k] over [t[k], t[k+1]]; its step is |u[k] - u[k-1]| (from 0 for the first).
+    `bounds` are the window boundaries (windows [lo, hi), the last [lo, hi]); `limits` is
+    (max_deflection [rad], max_rate [rad/s]) or None (then the times at the limits are None).
+    Returns (whole-run dict, per-window list of dicts)."""
+    t = np.asarray(t, float)
+    u = np.asarray(u, float)
+    n = len(t)
+    dt = np.diff(t) if n > 1 else np.array([0.0])
+    hold = np.append(dt, dt[-1]) if n > 1 else np.zeros(1)
+    step = np.abs(np.diff(u, prepend=0.0))
+    tol = 1e-9
+    travel = rate = None
+    if limits is not None:
+        travel = np.abs(u) >= limits[0] * (1.0 - tol)
+        rate = step >= limits[1] * np.append(hold[:1], dt[: n - 1]) * (1.0 - tol)
+    whole = {
+        'effort_source': None,
+        'peak_abs_u': _f(np.max(np.abs(u))) if n else None,
+        'time_at_travel_limit': _f(np.sum(hold[travel])) if travel is not None else None,
+        'time_at_rate_limit': _f(np.sum(hold[rate])) if rate is not None else None,
+        'steady_tv': 0.0,
+        'steady_fraction': STEADY_FRACTION,
+    }
+    wins = []
+    for i in range(len(bounds) - 1):
+        lo, hi = bounds[i], bounds[i + 1]
+        last = i == len(bounds) - 2
+        m = (t >= lo) & ((t <= hi) if last else (t < hi))
+        typical = float(np.median(hold[m])) if np.any(m) else 0.0
+        steady = m & (t >= hi - STEADY_FRACTION * (hi - lo) - 0.5 * typical)
+        idx = np.nonzero(steady)[0]
+        tv = float(np.sum(np.abs(np.diff(u[idx])))) if len(idx) > 1 else 0.0
+        at = None
+        if travel is not None:
+            at = _f(np.sum(hold[m & (travel | rate)]))
+        wins.append({'time_at_limit': at, 'steady_tv': _f(tv)})
+        whole['steady_tv'] += tv
+    whole['steady_tv'] = _f(whole['steady_tv'])
+    return whole, wins
+
+
+def run_metrics(run, limits=None):
     """docs/spec.md metrics of one run: windows between switches of the true theta and the
-    whole run. Returns a JSON-ready dict."""
+    whole run, with the elevator's effort (`limits`: (max_deflection, max_rate) of the plant's
+    elevator, for the time at each limit; default the run's own `actuator_limits` when its
+    source says, else not computed). Returns a JSON-ready dict."""
     t = run.t_e
     ae = np.abs(run.e)
     cum = _cum_trapz(ae, t)
@@ -103,6 +163,17 @@ def run_metrics(run):
                 'decisions': sum(1 for ev in evs if ev.get('decision')),
             }
         )
+    te, ue, source = effort_series(run)
+    if limits is None:
+        limits = getattr(run, 'actuator_limits', None)
+    if te is not None:
+        eff, eff_win = effort(te, ue, bounds, limits)
+        eff['effort_source'] = source
+    else:
+        eff, eff_win = None, [None] * len(windows)
+    for w, e in zip(windows, eff_win):
+        w['time_at_limit'] = e['time_at_limit'] if e else None
+        w['steady_tv'] = e['steady_tv'] if e else None
     k = int(np.argmax(ae))
     costs = [ev for ev in run.events if ev['type'] == 'recovered' and ev.get('cost') is not None]
     decisions = decision_list(run)
@@ -125,6 +196,7 @@ def run_metrics(run):
             k: sum(1 for d in decisions if d['decision'] == k) for k in DECISIONS
         },
         'episodes': run.episodes,
+        'effort': eff,
         'costs': [_f(ev['cost']) for ev in costs],
     }
     return {

@@ -17,10 +17,13 @@ def analyze(
     xlim=None,
     figures=True,
     stream=sys.stdout,
+    elevator_limits=None,
 ):
-    """The whole pipeline; returns (metrics, comparison, files written)."""
+    """The whole pipeline; returns (metrics, comparison, files written). `elevator_limits`:
+    (max_deflection [rad], max_rate [rad/s]) of the plant's elevator, for the time at each limit
+    in the effort metrics (None: not computed)."""
     runs = load_inputs(paths, labels)
-    metrics = [run_metrics(r) for r in runs]
+    metrics = [run_metrics(r, elevator_limits) for r in runs]
     base = choose_baseline(metrics, baseline)
     comparison = compare(metrics, base) if len(metrics) > 1 else None
     if stream is not None:
@@ -33,6 +36,7 @@ def analyze(
             'c_e': c_e,
             'baseline': comparison['baseline'] if comparison else None,
             'xlim': list(xlim) if xlim else None,
+            'elevator_limits': list(elevator_limits) if elevator_limits else None,
         }
         write_tables(out_dir, metrics, comparison, settings)
         files = [os.path.join(out_dir, 'metrics.json'), os.path.join(out_dir, 'metrics.csv')]

@@ -70,6 +70,20 @@ def format_report(metrics, comparison):
                 _fmt(w['max_abs_u']),
             )
         )
+        ef = w.get('effort')
+        if ef:
+            lines.append(
+                '   elevator effort (%s): peak |u| %s rad, %s s at the travel limit, %s s at '
+                'the rate limit, steady-flight total variation %s rad (last %g of each window)'
+                % (
+                    ef['effort_source'],
+                    _fmt(ef['peak_abs_u']),
+                    _fmt(ef['time_at_travel_limit'], none='? (limits not given)'),
+                    _fmt(ef['time_at_rate_limit'], none='?'),
+                    _fmt(ef['steady_tv']),
+                    ef['steady_fraction'],
+                )
+            )
         lines.append(
             '   events: %d onsets, %d recoveries, %d ignored onsets, %d ignored '
             'recoveries; learning episodes %s'
@@ -215,6 +229,8 @@ CSV_COLUMNS = [
     't_peak',
     'iae',
     'max_abs_u',
+    'time_at_limit',
+    'steady_tv',
     'recovery_time',
     'onset_delay',
     'onsets',
@@ -258,6 +274,7 @@ def write_tables(out_dir, metrics, comparison, settings):
                 theta_scale_before=None,
                 recovery_time=None,
                 onset_delay=None,
+                steady_tv=(whole.get('effort') or {}).get('steady_tv'),
             )
             rows.append(('all', whole))
             for idx, win in rows:

@@ -5,6 +5,7 @@
 /// visited at least twice. How a mode is judged against rac on such a family: family_report.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -29,8 +30,14 @@ struct FamilySpec {
   double r_min = 0.05, r_max = 0.15;
 };
 
-/// \brief Scenario `index` of the family `seed` (deterministic on every platform).
-Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index);
+struct TrimCheck;
+
+/// \brief Scenario `index` of the family `seed` (deterministic on every platform). With
+/// `feasible`, a drawn regime that the limited elevator cannot hold is drawn again from the
+/// same stream (at most 1000 times, then std::runtime_error), and `rejected` (when given) counts
+/// the draws thrown away; without it the draws are as they always were.
+Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index,
+                           const TrimCheck* feasible = nullptr, int* rejected = nullptr);
 
 /// \brief A plant condition drawn per scenario of a family: uniform in [lo, hi]; lo == hi is
 /// that one value, drawn by no one.
@@ -89,7 +96,47 @@ struct RunDigest {
   std::vector<double> peak;  ///< peak |e| per window [rad]
   double iae = 0.0;          ///< whole run [rad s]
   double max_abs_u = 0.0;    ///< [rad]
+  // Effort (closed_loop.hpp EffortMetrics): of the applied elevator.
+  double peak_applied = 0.0;       ///< max |applied| [rad]
+  double time_at_travel = 0.0;     ///< [s]
+  double time_at_rate = 0.0;       ///< [s]
+  double steady_tv = 0.0;          ///< [rad]
+  std::vector<double> limit_frac;  ///< per window: fraction of its time at a limit
 };
+
+/// \brief The elevator effort of one mode over a family: medians and worst over its runs.
+struct EffortSummary {
+  double median_peak_u = 0.0, worst_peak_u = 0.0;  ///< max |applied| [rad]
+  double median_travel = 0.0, worst_travel = 0.0;  ///< time at the travel limit [s]
+  double median_rate = 0.0, worst_rate = 0.0;      ///< time at the rate limit [s]
+  double median_tv = 0.0, worst_tv = 0.0;          ///< steady-flight total variation [rad]
+  /// Fraction of each switch window (after the first) spent at a limit: median, worst.
+  double median_window_limit = 0.0, worst_window_limit = 0.0;
+};
+
+/// \brief Effort of `runs` (one mode's runs over a family); lost runs count by what they did.
+EffortSummary summarizeEffort(const std::vector<RunDigest>& runs);
+
+/// \brief A regime the limited elevator can hold: the elevator deflection that trims the plant
+/// x_dot = A x + B (theta^T x + u) + B1r r at x = x_ref_ss (the reference model's steady state
+/// for the reference r, where an adaptive controller that tracks it settles) is
+/// u_trim = v - theta^T x_ref_ss, with v = -K x_ref_ss the baseline's input there;
+/// |u_trim| <= fraction * max_deflection for every |r| <= r_max (it is linear in r).
+struct TrimCheck {
+  Eigen::VectorXd x_per_r;  ///< x_ref_ss for r = 1
+  double v_per_r = 0.0;     ///< v for r = 1
+  double r_max = 0.0;       ///< largest |r| of the family
+  double limit = 0.0;       ///< fraction * max_deflection [rad]
+  /// \brief The trim deflection of `theta` at r = r_max [rad].
+  double trim(const Eigen::VectorXd& theta) const;
+  bool holds(const Eigen::VectorXd& theta) const { return std::abs(trim(theta)) <= limit; }
+};
+
+/// \brief The trim check of the closed loop A_m = A - B K, B1r: x_ref_ss = -A_m^{-1} B1r r.
+/// Throws std::invalid_argument when A_m is singular.
+TrimCheck makeTrimCheck(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
+                        const Eigen::VectorXd& B1r, const Eigen::RowVectorXd& K, double r_max,
+                        double limit);
 
 /// \brief One mode against rac over a family (docs/spec.md "Beyond the paper").
 struct FamilySummary {
