@@ -66,6 +66,10 @@ class RecorderCrashTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         self.assertIn("recovered", r.stdout)
         self.assertEqual(glob.glob(os.path.join(bag_dir, "*.active")), [])
+        # The recovered recording keeps saying it was cut short.
+        self.assertEqual(
+            len(glob.glob(os.path.join(bag_dir, "*.incomplete.bag"))), 1, r.stdout + r.stderr
+        )
 
         steps = []
         bags = sorted(

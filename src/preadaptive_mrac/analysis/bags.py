@@ -1,6 +1,7 @@
 """Reading runs from ROS bags (single-run or compare.launch). Needs Debian's python3-rosbag."""
 
 import os
+import struct
 
 import numpy as np
 
@@ -31,10 +32,48 @@ def _stamp_times(stamps, bag_times):
     return s, False
 
 
+def _index_pos(path):
+    """The file header's index_pos (0: the recorder never wrote the index), or None when the
+    file header itself cannot be read."""
+    try:
+        with open(path, 'rb') as f:
+            f.seek(13)
+            (hlen,) = struct.unpack('<I', f.read(4))
+            if hlen > 4096:
+                return None
+            header = f.read(hlen)
+        pos = 0
+        while pos + 4 <= len(header):
+            (flen,) = struct.unpack_from('<I', header, pos)
+            field = header[pos + 4 : pos + 4 + flen]
+            pos += 4 + flen
+            name, _, value = field.partition(b'=')
+            if name == b'index_pos' and len(value) == 8:
+                return struct.unpack('<Q', value)[0]
+    except (OSError, struct.error):
+        return None
+    return None
+
+
+def _corrupt(path, what):
+    return InputError(
+        path,
+        'corrupt bag (damaged file: %s); `rosbag reindex %s` may recover the messages before '
+        'the damage' % (what, path),
+    )
+
+
 def _open_bag(rosbag, path, skip_index):
     try:
         return rosbag.Bag(path, 'r', skip_index=skip_index)
     except rosbag.ROSBagUnindexedException:
+        # rosbag says "unindexed" for any failure while reading the index: only a bag whose
+        # header has no index position was left open by its recorder.
+        pos = _index_pos(path)
+        if pos is None:
+            raise _corrupt(path, 'its file header cannot be read')
+        if pos != 0:
+            raise _corrupt(path, 'its index at byte %d cannot be read' % pos)
         raise InputError(
             path,
             'unindexed bag (the recorder did not close it: %s); run '
@@ -48,6 +87,8 @@ def _open_bag(rosbag, path, skip_index):
         )
     except (rosbag.ROSBagException, OSError, ValueError) as ex:
         raise InputError(path, 'cannot read the bag: %s' % ex)
+    except Exception as ex:  # a damaged record rosbag does not name (struct.error & co.)
+        raise _corrupt(path, '%s: %s' % (type(ex).__name__, ex))
 
 
 def _load_bag(path):
@@ -71,6 +112,10 @@ def _load_bag(path):
         bag = _open_bag(rosbag, path, False)
     try:
         return _read_bag(bag, path, fast, lambda: _open_bag(rosbag, path, False))
+    except InputError:
+        raise
+    except Exception as ex:  # a record that cannot be read: a bit flip, a cut, ...
+        raise _corrupt(path, 'a record cannot be read: %s: %s' % (type(ex).__name__, ex))
     finally:
         bag.close()
 
@@ -147,9 +192,36 @@ def _read_bag(bag, path, fast=None, reopen=None):
         label = ns.strip('/').replace('/', '_') or stem
         run = Run(label, path, ns)
         _fill_from_bag(run, acc[ns], path)
+        _flag_non_finite(run)
+        if '.incomplete.' in os.path.basename(path):
+            run.notes.append(
+                'WARNING: incomplete recording (the recorder named it so: the run stopped '
+                'early or messages were lost); metrics cover only what was recorded'
+            )
         runs.append(run)
     runs.sort(key=lambda r: (r.mode != 'rac', r.namespace))  # regular adaptive control first
     return runs
+
+
+def _flag_non_finite(run):
+    """A WARNING note for each recorded series holding NaN or infinite values: the metrics of
+    such a run (printed '-', null in metrics.json) are not numbers."""
+    ns = run.namespace
+    series = (
+        ('%s/controller/status e' % ns, run.e),
+        ('%s/controller/status theta_hat' % ns, run.theta_hat),
+        ('%s/plant/state alpha' % ns, run.alpha),
+        ('%s/plant/truth theta' % ns, run.theta),
+        (run.u_source + ' u', run.u),
+    )
+    for name, v in series:
+        v = np.asarray(v, dtype=float)
+        bad = ~np.isfinite(v)
+        if bad.any():
+            run.notes.append(
+                'WARNING: %d non-finite value(s) (NaN or inf) in %s: metrics that use them '
+                'are not numbers' % (int(bad.sum()), name)
+            )
 
 
 def _msg_times(pairs, name, run, dt=None):
