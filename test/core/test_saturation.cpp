@@ -48,6 +48,10 @@ TEST(Saturation, HedgingChangesNothingWithoutALimit) {
     for (bool wide : {false, true}) {
       RunConfig off = test::packageConfig("1");
       off.controller.mode = mode;
+      // Scenario 1 to 24 s: the switches at 5 and 20 s, in a few seconds of test.
+      off.scenario.theta.resize(3);
+      off.scenario.theta[2].until = 24.0;
+      off.scenario.reference = {{24.0, 0.1}};
       if (wide) {
         off.plant.actuator.enabled = true;
         off.plant.actuator.max_deflection = 100.0;
