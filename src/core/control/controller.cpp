@@ -48,6 +48,10 @@ Controller::Controller(const PlantConfig& model, const ControllerConfig& cfg,
   Gam_r_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * b_ref_;
   x0_ = model.x0;
   ev_.setZero(n_);
+  // Hedging needs limits the controller knows; without them nothing is ever limited.
+  hedge_ = cfg.hedging == Hedging::kPch && model.actuator.enabled;
+  Gam_b_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * B_;
+  ev_h_.setZero(n_);
   limits_ = model.actuator;
   const ModeEntry* mode = findMode(cfg.mode);
   if (mode == nullptr)
@@ -87,6 +91,10 @@ Controller& Controller::operator=(const Controller& o) {
   x0_ = o.x0_;
   x_r_ = o.x_r_;
   ev_ = o.ev_;
+  hedge_ = o.hedge_;
+  Gam_b_ = o.Gam_b_;
+  x_h_ = o.x_h_;
+  ev_h_ = o.ev_h_;
   limits_ = o.limits_;
   u_prev_ = o.u_prev_;
   u_cmd_prev_ = o.u_cmd_prev_;
@@ -103,6 +111,7 @@ Controller& Controller::operator=(const Controller& o) {
 
 void Controller::reset() {
   x_r_ = x0_;
+  x_h_ = x0_;
   law_->reset();
   vel_.reset();
   attention_.reset();
@@ -230,6 +239,10 @@ StepOutput Controller::step(const StepInput& in) {
   li.x = in.x;
   li.ev = &ev_;
   li.r = in.r;
+  if (hedge_) {
+    differenceTo(x, x_h_, &ev_h_);
+    li.ev = &ev_h_;
+  }
   out.u_baseline = -dotOf(K_, x);
   out.u_adaptive = lawCommand(li);
   // A strategy's probing signal is part of the adaptive term (only pa_robust has one).
@@ -245,9 +258,18 @@ StepOutput Controller::step(const StepInput& in) {
   copyTo(theta_hat, &out.theta_hat);
 
   if (attention_.phaseActive()) strategy_->duringPhase(smp, out.u, theta_hat);
-  // The adaptive law to t_{k+1}; frozen while the elevator is limited (the plant does not get
-  // the u the law assumes).
-  lawAdvance(li, !(out.saturated && cfg_.freeze_when_saturated));
+  // The adaptive law to t_{k+1}. Hedged, it adapts through the limit: its error and prediction
+  // carry what the limit took off. Unhedged, it is frozen while the elevator is limited (the
+  // plant does not get the u the law assumes).
+  if (hedge_) {
+    li.limited = out.u - out.u_unsaturated;
+    lawAdvance(li, true);
+    // The hedged reference model, RK4 with r and the limited part held over the sample.
+    lazyProductPlus(Phi_r_, x_h_, Gam_r_, in.r, &x_h_);
+    addScaled(li.limited, Gam_b_, &x_h_);
+  } else {
+    lawAdvance(li, !(out.saturated && cfg_.freeze_when_saturated));
+  }
   if (strategy_->refine(&theta_hat)) law_->constrain();
   // Reference model (eq. refmodel), RK4 with r held over the sample.
   lazyProductPlus(Phi_r_, x_r_, Gam_r_, in.r, &x_r_);

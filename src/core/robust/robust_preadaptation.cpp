@@ -92,6 +92,8 @@ void RobustPreadaptation::reset() {
   loss_.restart(-1);
   loss_.clearBlock();
   t_prev_ = 0.0;
+  // The regime flown from the start is identified as one after an onset.
+  excite_until_ = rc_.excitation_time;
 }
 
 RegimeMemory RobustPreadaptation::memory() {
@@ -246,6 +248,8 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   }
   loss_.restart(-1);
 
+  // Probe the elevator while this regime is identified, not in the steady flight after it.
+  if (rc_.excitation_time > 0.0) excite_until_ = s.t + rc_.excitation_time;
   z_onset_ << s.e, std::abs(s.e_dot);
   if (rc_.use_network) net_->forward(z_onset_, &theta_net_);
   last_trigger_k_ = k_;
@@ -409,6 +413,7 @@ std::int64_t RobustPreadaptation::excitationHalf(double t) const {
 
 double RobustPreadaptation::excitation(double t) const {
   if (rc_.excitation <= 0.0) return 0.0;
+  if (rc_.excitation_time > 0.0 && !(t < excite_until_)) return 0.0;
   return excitationHalf(t) % 2 == 0 ? rc_.excitation : -rc_.excitation;
 }
 

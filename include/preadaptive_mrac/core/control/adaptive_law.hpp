@@ -27,6 +27,10 @@ struct LawInput {
   const Vec* x = nullptr;   ///< measured state x_k
   const Vec* ev = nullptr;  ///< e_v = x_k - x_r(t_k)
   double r = 0.0;           ///< command r(t_k) [rad]
+  /// What the known actuator limits took off the command at t_k, u_limited - u [rad], when the
+  /// controller hedges (controller.adaptation.hedging); 0 otherwise. A law that predicts the
+  /// plant feeds its prediction the limited command.
+  double limited = 0.0;
 };
 
 /// \brief An adaptive law: u = u_bl + command(), then advance() to t_{k+1}.

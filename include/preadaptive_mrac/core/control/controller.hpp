@@ -127,6 +127,12 @@ class Controller {
   Vec Gam_r_;  // RK4 input vector of the reference model over dt (times r)
 
   Vec x0_, x_r_, ev_;
+  // Pseudo-control hedging (cfg_.hedging pch): a second reference model moved also by
+  // B (u_limited - u), and the law's error against it. x_r_ stays the unhedged model: e,
+  // the attention and every metric are the tracking error of the paper's reference model.
+  bool hedge_ = false;
+  Vec Gam_b_;  // RK4 input vector of B over dt
+  Vec x_h_, ev_h_;
   ActuatorLimits limits_;
   double u_prev_ = 0.0;      // last command sent (the rate limiter's memory; safeCommand too)
   double u_cmd_prev_ = 0.0;  // last answer of step() (what the plant applies in lockstep)

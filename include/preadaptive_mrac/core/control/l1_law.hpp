@@ -82,10 +82,10 @@ class L1Law : public AdaptiveLaw {
   /// \brief An estimate set from outside (a preadaptation reset) is projected into Omega.
   void constrain() override;
   double command(const LawInput& in) const override { return command(*in.x, in.r); }
-  /// \brief advance() below with the law's own command as the adaptive part applied (the seam
-  /// does not carry the applied elevator; while it is limited the controller freezes `adapt`).
+  /// \brief advance() below with the law's own command as the adaptive part applied, less what
+  /// the known limits took off it when the controller hedges (LawInput::limited).
   void advance(const LawInput& in, bool adapt) override {
-    advance(*in.x, in.r, command(*in.x, in.r), adapt);
+    advance(*in.x, in.r, command(*in.x, in.r) + in.limited, adapt);
   }
 
   /// \brief The adaptive command at sample k from the measured x_k and r_k [rad]: the filter

@@ -60,7 +60,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// \brief Gains and thresholds take effect at once; a new detect_window, chunk or verify_time
   /// re-sizes the data window and restarts identification (returns true), as a reset does.
   bool setTunables(const ControllerConfig& cfg) override;
-  /// \brief The square wave +-`excitation` of period `excitation_period` at time t [rad].
+  /// \brief The square wave +-`excitation` of period `excitation_period` at time t [rad]; with
+  /// `excitation_time` > 0 only for that long after the last onset, else 0.
   double excitation(double t) const override;
 
   /// \brief The loss of effectiveness nu = 1 - Lambda identified over the current regime so far
@@ -131,6 +132,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double nu_regime_ = 0.0, nu_decided_ = 0.0;
   LossEstimate loss_;
   double t_prev_ = 0.0;
+  double excite_until_ = 0.0;  ///< the excitation runs before this time (excitation_time > 0)
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };
