@@ -148,5 +148,17 @@ TEST(ParamTable, ValidationRefusesJustOutsideEachDeclaredRange) {
   EXPECT_GE(probed, 20);
 }
 
+TEST(ParamTable, StringKeysTakeNamesThatLookLikeNumbers) {
+  ParamValue tree = ParamValue::makeMap();
+  applyOverride(&tree, "plant.jsbsim.aircraft=737");
+  ParamReader r(tree);
+  EXPECT_EQ(r.getString("plant.jsbsim.aircraft"), "737");
+  EXPECT_TRUE(r.ok());
+  applyOverride(&tree, "plant.jsbsim.aircraft=[7, 3]");  // not a name: still refused
+  ParamReader bad(tree);
+  bad.getString("plant.jsbsim.aircraft");
+  EXPECT_FALSE(bad.ok());
+}
+
 }  // namespace
 }  // namespace preadaptive_mrac

@@ -261,6 +261,9 @@ bool ParamReader::getBool(const std::string& dotted, bool def) {
 std::string ParamReader::getString(const std::string& dotted) {
   const ParamValue* v = lookup(dotted, true);
   if (v == nullptr) return {};
+  // A name may look like a number (an aircraft "737"): YAML reads it as an integer, whose text
+  // is the name.
+  if (v->type() == ParamValue::Type::kInt) return std::to_string(v->asInt());
   if (v->type() != ParamValue::Type::kString) {
     fail(dotted, std::string("expected a string, got ") + ParamValue::typeName(v->type()) + " " +
                      v->describe());
