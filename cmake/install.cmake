@@ -83,6 +83,8 @@ install(DIRECTORY jsbsim DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION} PATTERN
 catkin_install_python(PROGRAMS scripts/analyze_bag scripts/viz_markers scripts/live_plot
                                scripts/reindex_bags
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+# The controller's run-time tuning client that exits 2 when a request is refused.
+catkin_install_python(PROGRAMS scripts/tune DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # Examples of a user's own node against ours (docs/tutorials/own_controller.md, own_plant.md).
 catkin_install_python(PROGRAMS scripts/examples/example_lqr_controller scripts/examples/example_plant
   DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

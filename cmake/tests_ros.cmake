@@ -17,6 +17,10 @@ if(CATKIN_ENABLE_TESTING)
   # at a time, timers and waiting ones on the queue's thread, in order.
   catkin_add_gtest(test_ros_inline_queue test/ros/test_inline_queue.cpp)
   target_link_libraries(test_ros_inline_queue preadaptive_mrac_ros gtest_main)
+  # Configuration on the nodes' side: parameter-server numbers read as the CLI reads them, and
+  # the controller's baseline answer to a non-finite state.
+  catkin_add_gtest(test_ros_config test/ros/test_ros_config.cpp)
+  target_link_libraries(test_ros_config preadaptive_mrac_ros gtest_main)
   # BagWriter: the same file as rosbag::Bag writes for the same calls, byte for byte.
   catkin_add_gtest(test_ros_bag_writer test/ros/test_bag_writer.cpp)
   target_link_libraries(test_ros_bag_writer preadaptive_mrac_ros gtest_main)

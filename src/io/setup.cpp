@@ -57,6 +57,34 @@ std::string keysForCause(const std::string& cause, const DesignModel& model) {
 }
 }  // namespace
 
+std::string runLengthProblem(double end_s, double dt) {
+  if (!(dt > 0.0) || !(end_s > 0.0)) return {};  // refused elsewhere, by their own keys
+  const double steps = std::ceil(end_s / dt);
+  if (steps <= static_cast<double>(kMaxRunSteps)) return {};
+  return "the scenario's " + formatNumber(end_s) + " s at " + formatNumber(dt) + " s a step is " +
+         formatNumber(steps) + " steps, more than the " + std::to_string(kMaxRunSteps) +
+         " a run may have (a larger step, or a shorter scenario)";
+}
+
+namespace {
+// Every end of a segment of the scenario's schedules within kMaxRunSeconds, each named.
+void checkDurations(ParamReader& r, const ParamValue& tree) {
+  for (const char* schedule : {"theta", "reference", "effectiveness", "faults"}) {
+    const std::string key = std::string("scenario.") + schedule;
+    const ParamValue* list = tree.findPath(key);
+    if (list == nullptr || list->type() != ParamValue::Type::kList) continue;
+    for (size_t i = 0; i < list->list().size(); ++i) {
+      const std::string until = key + "." + std::to_string(i) + ".until";
+      const ParamValue* v = tree.findPath(until);
+      if (v == nullptr || !v->isNumber() || !r.usable(until)) continue;
+      if (v->asDouble() > kMaxRunSeconds)
+        r.fail(until, "must be <= " + formatNumber(kMaxRunSeconds) + " s (the longest run), got " +
+                          formatNumber(v->asDouble()));
+    }
+  }
+}
+}  // namespace
+
 RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections sections) {
   ParamReader r(tree, style);
   RunConfig rc;
@@ -74,6 +102,7 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   if (sections.scenario) {
     rc.scenario = Scenario::read(r, std::max(n, 0), "scenario");
     r.rejectUnusedUnder("scenario");
+    checkDurations(r, tree);
     if (sections.plant && !rc.scenario.faults.empty() &&
         rc.plant.engine != PlantEngineKind::kJsbsim)
       r.fail("scenario.faults",
@@ -88,6 +117,10 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
                          (kv.first == "scenario" && sections.scenario);
       if (!known) r.fail(kv.first, "unknown key (expected plant, controller or scenario)");
     }
+  }
+  if (sections.controller && sections.scenario && r.usable("controller.sample_time") && r.ok()) {
+    const std::string why = runLengthProblem(rc.scenario.endTime(), rc.controller.sample_time);
+    if (!why.empty()) r.fail("controller.sample_time", why);
   }
   if (sections.plant && sections.controller && r.ok()) {
     try {

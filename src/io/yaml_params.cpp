@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 
 namespace preadaptive_mrac {
@@ -40,7 +41,34 @@ ParamValue scalarToParam(const YAML::Node& n) {
   return ParamValue::makeString(s);
 }
 
-ParamValue toParam(const YAML::Node& n) {
+std::string childPath(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+// Walks the document as the tree will be built (each alias expanded where it is used) and
+// counts its nodes and depth, before the tree allocates anything: a few hundred bytes of
+// aliases nesting aliases expand to billions of nodes. Stops at the first limit exceeded, so
+// its time is bounded by the limits, not by the expansion.
+void checkSize(const YAML::Node& n, const std::string& path, int depth, std::size_t* count) {
+  if (++*count > kMaxYamlNodes)
+    throw FileError((path.empty() ? std::string("the document") : path) + ": more than " +
+                    std::to_string(kMaxYamlNodes) +
+                    " values once YAML aliases (*name) are expanded: an alias bomb or far "
+                    "too large a configuration");
+  if (depth > kMaxYamlDepth)
+    throw FileError(path + ": nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
+  if (n.IsSequence()) {
+    std::size_t i = 0;
+    for (const auto& c : n) checkSize(c, childPath(path, std::to_string(i++)), depth + 1, count);
+  } else if (n.IsMap()) {
+    for (const auto& kv : n) {
+      const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
+      checkSize(kv.second, childPath(path, key), depth + 1, count);
+    }
+  }
+}
+
+ParamValue toParam(const YAML::Node& n, const std::string& path) {
   switch (n.Type()) {
     case YAML::NodeType::Null:
     case YAML::NodeType::Undefined:
@@ -49,17 +77,29 @@ ParamValue toParam(const YAML::Node& n) {
       return scalarToParam(n);
     case YAML::NodeType::Sequence: {
       std::vector<ParamValue> items;
-      for (const auto& c : n) items.push_back(toParam(c));
+      items.reserve(n.size());
+      for (const auto& c : n)
+        items.push_back(toParam(c, childPath(path, std::to_string(items.size()))));
       return ParamValue::makeList(std::move(items));
     }
     case YAML::NodeType::Map: {
       ParamValue m = ParamValue::makeMap();
+      std::map<std::string, int> lines;  // key -> its line, to name both lines of a repeat
       for (const auto& kv : n) {
+        const int line = kv.first.Mark().line + 1;
         // Keys must be plain names: a list or map as a key ("? [a, b]: 1") has no parameter path.
         if (!kv.first.IsScalar())
-          throw FileError("line " + std::to_string(kv.first.Mark().line + 1) +
-                          ": a map key must be a plain name, not a list or map");
-        m.map()[kv.first.Scalar()] = toParam(kv.second);
+          throw FileError("line " + std::to_string(line) + ": " +
+                          (path.empty() ? std::string() : path + ": ") +
+                          "a map key must be a plain name, not a list or map");
+        const std::string& key = kv.first.Scalar();
+        const auto seen = lines.emplace(key, line);
+        // yaml-cpp keeps both entries of a repeated key; one of them would be dropped unseen.
+        if (!seen.second)
+          throw FileError(childPath(path, key) + ": duplicate key (lines " +
+                          std::to_string(seen.first->second) + " and " + std::to_string(line) +
+                          ")");
+        m.map()[key] = toParam(kv.second, childPath(path, key));
       }
       return m;
     }
@@ -67,9 +107,19 @@ ParamValue toParam(const YAML::Node& n) {
   return ParamValue();
 }
 
+// The one conversion of a loaded document (a file or a --set value): bounded, then built.
+ParamValue convert(const YAML::Node& n, const std::string& path) {
+  std::size_t count = 0;
+  checkSize(n, path, 0, &count);
+  return toParam(n, path);
+}
+
 }  // namespace
 
 ParamValue parseYaml(const std::string& text, const std::string& origin) {
+  if (text.size() > kMaxYamlBytes)
+    throw FileError(origin + ": " + std::to_string(text.size()) + " bytes, more than the " +
+                    std::to_string(kMaxYamlBytes) + " a configuration may have");
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -80,7 +130,7 @@ ParamValue parseYaml(const std::string& text, const std::string& origin) {
   if (!root.IsMap() && !root.IsNull())
     throw FileError(origin + ": expected a YAML map at the top level");
   try {
-    return root.IsNull() ? ParamValue::makeMap() : toParam(root);
+    return root.IsNull() ? ParamValue::makeMap() : convert(root, "");
   } catch (const FileError& e) {
     throw FileError(origin + ": " + e.what());
   } catch (const YAML::Exception& e) {
@@ -89,11 +139,16 @@ ParamValue parseYaml(const std::string& text, const std::string& origin) {
 }
 
 ParamValue loadYamlFile(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw FileError(path + ": cannot open file (" + std::string(std::strerror(errno)) + ")");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseYaml(ss.str(), path);
+  // Read at most one byte past the limit: a huge file (or /dev/zero) is refused unread.
+  std::string text(kMaxYamlBytes + 1, '\0');
+  in.read(&text[0], static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxYamlBytes)
+    throw FileError(path + ": more than " + std::to_string(kMaxYamlBytes) +
+                    " bytes, the most a configuration file may have");
+  return parseYaml(text, path);
 }
 
 void applyOverride(ParamValue* tree, const std::string& assignment) {
@@ -110,11 +165,13 @@ void applyOverride(ParamValue* tree, const std::string& assignment) {
     throw FileError("--set " + key + ": malformed value '" + value + "': " + e.msg);
   }
   try {
-    tree->setPath(key, toParam(n));
+    tree->setPath(key, convert(n, key));
   } catch (const FileError& e) {
     throw FileError("--set " + key + ": " + e.what());
   } catch (const YAML::Exception& e) {
     throw FileError("--set " + key + ": malformed value '" + value + "': " + e.msg);
+  } catch (const std::out_of_range& e) {  // a list index past the list's end
+    throw FileError("--set " + std::string(e.what()));
   }
 }
 

@@ -1,5 +1,7 @@
 #include "preadaptive_mrac/ros/controller_reconfigure.hpp"
 
+#include <cmath>
+
 #include "preadaptive_mrac/core/control/tunables.hpp"
 
 namespace preadaptive_mrac {
@@ -15,6 +17,34 @@ ControllerTunables fromReconfigure(const ControllerTuningConfig& c) {
 
 void toReconfigure(const ControllerTunables& t, ControllerTuningConfig* c) {
   tunablesToReconfigure(t, c);
+}
+
+bool recoverNonFinite(Controller* ctl, const Vec& x, StepOutput* out) {
+  const bool finite = std::isfinite(out->u) && std::isfinite(out->u_unsaturated) &&
+                      (out->theta_hat.size() == 0 || out->theta_hat.allFinite());
+  if (finite) return false;
+  ctl->reset();
+  StepOutput base;
+  base.e = std::isfinite(out->e) ? out->e : 0.0;
+  base.e_dot = std::isfinite(out->e_dot) ? out->e_dot : 0.0;
+  base.u = ctl->safeCommand(x, StalePolicy::kBaseline);
+  base.u_baseline = base.u_unsaturated = base.u;
+  base.x_ref = Vec::Zero(x.size());  // the reference model restarts at the plant's trim
+  base.theta_hat = ctl->thetaHat();
+  base.tunables_applied = out->tunables_applied;
+  *out = base;
+  return true;
+}
+
+bool ControllerReconfigure::recover(StepOutput* out, const Vec& x, std::uint64_t step, double t) {
+  if (!recoverNonFinite(ctl_, x, out)) return false;
+  if (non_finite_resets_++ == 0)
+    ROS_ERROR(
+        "step %llu (t = %.3f s): the controller's command or estimate is not finite (an "
+        "adaptation that diverged); reset to its start and answered with the baseline -K x "
+        "(said once; the diagnostics count every such reset)",
+        static_cast<unsigned long long>(step), t);
+  return true;
 }
 
 ControllerReconfigure::ControllerReconfigure(const ros::NodeHandle& nh,

@@ -336,6 +336,7 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
     fatal(std::string("controller step ") + std::to_string(msg.step) + " failed: " + e.what());
     return;
   }
+  reconf_->recover(&out, x_, msg.step, msg.t);  // never a NaN command: the baseline instead
 
   // The command first: the plant waits for it. Messages are built once and never touched
   // after publishing (a nodelet in the same process gets the pointer).
@@ -513,6 +514,7 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
              {"onsets", onsets_},
              {"recoveries", recoveries_},
              {"resets", resets_},
+             {"non-finite resets", reconf_->nonFiniteResets()},
              // pa_robust: DECISION events, and what the verifications (at onsets and DECISION
              // events) chose.
              {"decision events", decision_events_},

@@ -138,6 +138,11 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
     s.controller = false;
     s.scenario = true;
     p.run = readRunConfig(tree, style, s);
+    // the plant's step is its own ~dt (the controller's is checked with its sample_time)
+    if (r.usable("dt")) {
+      const std::string why = runLengthProblem(p.run.scenario.endTime(), p.dt);
+      if (!why.empty()) problems.push_back(r.name("dt") + ": " + why);
+    }
   } catch (const ConfigError& e) {
     appendProblems(&problems, e.problems());
   }

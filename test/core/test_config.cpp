@@ -3,15 +3,20 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sstream>
+#include <stdexcept>
 
 #include "preadaptive_mrac/core/control/controller.hpp"
 #include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/control/tunables.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
+#include "preadaptive_mrac/io/yaml_params.hpp"
 #include "preadaptive_mrac/params/modes_params.hpp"
 #include "test_helpers.hpp"
 
@@ -80,7 +85,8 @@ TEST(Config, EveryProblemAtOnceNamedByKey) {
   EXPECT_TRUE(mentions(ps, "controller.attention.c_e: missing")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "controller.adaptation.gamma: expected a number, got string"))
       << joined(ps);
-  EXPECT_TRUE(mentions(ps, "controller.attention.c_ed: must be > 0")) << joined(ps);
+  EXPECT_TRUE(mentions(ps, "controller.attention.c_ed: must be in [1e-06, 10], got -1"))
+      << joined(ps);
   EXPECT_TRUE(mentions(ps, "controller.sample_time: expected a finite number")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "plant.B: expected 3 numbers")) << joined(ps);
   EXPECT_TRUE(mentions(ps, "controller.attention.ce: unknown key")) << joined(ps);
@@ -452,4 +458,162 @@ TEST(Cli, DesignModelBySet) {
   r = runCli("--scenario 1 --mode rac --set 'controller.model.A=[[0,1],[0,-0.4]]'");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("controller.model.A: expected 3 rows, got 2"), std::string::npos) << r.out;
+}
+
+// ---- Bounds of what a configuration may ask, checked before anything is built.
+
+namespace {
+// 9 levels of 9 aliases each: 404 bytes that expand to 9^9 (387 million) values.
+std::string aliasBomb() {
+  std::string y = "a0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int l = 1; l < 9; ++l) {
+    const std::string prev = "*a" + std::to_string(l - 1);
+    y += "a" + std::to_string(l) + ": &a" + std::to_string(l) + " [";
+    for (int i = 0; i < 9; ++i) y += (i ? "," : "") + prev;
+    y += "]\n";
+  }
+  return y;
+}
+std::string fileErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const FileError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+double secondsOf(const std::function<void()>& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+TEST(ConfigLimits, AliasBombRefusedQuicklyNamingTheCause) {
+  const std::string bomb = aliasBomb();
+  EXPECT_LT(bomb.size(), 500u);
+  std::string what;
+  const double s = secondsOf([&] { what = fileErrorOf([&] { parseYaml(bomb, "bomb.yaml"); }); });
+  EXPECT_LT(s, 1.0);
+  EXPECT_NE(what.find("bomb.yaml: a"), std::string::npos) << what;
+  EXPECT_NE(what.find("aliases"), std::string::npos) << what;
+  // Through the CLI: exit 2 and one line, within seconds.
+  const CmdResult r = runCli("--scenario " + tmpFile("bomb.yaml", bomb) + " --mode rac");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("aliases"), std::string::npos) << r.out;
+}
+
+TEST(ConfigLimits, DepthAndSizeRefused) {
+  const std::string deep = "scenario: " + std::string(100, '[') + std::string(100, ']') + "\n";
+  const std::string what = fileErrorOf([&] { parseYaml(deep, "deep.yaml"); });
+  EXPECT_NE(what.find("nested deeper than 64 levels"), std::string::npos) << what;
+  // A file of 1.75 million segments (50 MB): refused by its size, unread.
+  const std::string big = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_big.yaml";
+  {
+    std::ofstream f(big);
+    f << "scenario:\n  name: big\n  theta:\n";
+    char line[64];
+    for (int i = 1; i <= 1750000; ++i) {
+      std::snprintf(line, sizeof(line), "    - {until: %d.0, scale: 0.5}\n", i);
+      f << line;
+    }
+  }
+  std::string big_what;
+  const double s = secondsOf([&] { big_what = fileErrorOf([&] { loadYamlFile(big); }); });
+  EXPECT_LT(s, 1.0);
+  EXPECT_NE(big_what.find("more than 1048576 bytes"), std::string::npos) << big_what;
+  const CmdResult r = runCli("--scenario " + big + " --mode rac");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("bytes"), std::string::npos) << r.out;
+  std::remove(big.c_str());
+}
+
+TEST(ConfigLimits, DurationStepsAndSampleTimeNamed) {
+  const std::string until9 = tmpFile("until9.yaml",
+                                     "scenario:\n  name: long\n  theta:\n"
+                                     "    - {until: 10.0, scale: 0.5}\n"
+                                     "    - {until: 1.0e+9, scale: 1.0}\n");
+  const std::string until300 = tmpFile("until300.yaml",
+                                       "scenario:\n  name: long\n  theta:\n"
+                                       "    - {until: 1.0e+300, scale: 1.0}\n");
+  const struct {
+    std::string args, expect;
+  } cases[] = {
+      {"--scenario " + until9 + " --mode rac", "scenario.theta.1.until: must be <= 86400"},
+      {"--scenario " + until300 + " --mode rac", "scenario.theta.0.until: must be <= 86400"},
+      {"--scenario 1 --mode rac --set controller.sample_time=1e-9",
+       "controller.sample_time: the scenario's"},
+      {"--scenario 1 --mode rac --set controller.sample_time=2", "controller.sample_time: must be"},
+  };
+  for (const auto& c : cases) {
+    CmdResult r;
+    const double s = secondsOf([&] { r = runCli(c.args); });
+    EXPECT_LT(s, 5.0) << c.args;
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
+  }
+  EXPECT_EQ(runLengthProblem(20.0, 1e-3), "");
+  EXPECT_NE(runLengthProblem(1e4 + 1.0, 1e-3), "");
+}
+
+TEST(ConfigParsing, DuplicateKeyNamesBothLines) {
+  const std::string y =
+      "controller:\n"
+      "  attention:\n"
+      "    c_e: 0.005\n"
+      "    c_ed: 0.02\n"
+      "    c_e: 0.5\n";
+  const std::string what = fileErrorOf([&] { parseYaml(y, "dup.yaml"); });
+  EXPECT_NE(what.find("dup.yaml: controller.attention.c_e: duplicate key (lines 3 and 5)"),
+            std::string::npos)
+      << what;
+  const CmdResult r = runCli("--scenario 1 --mode rac --controller " + tmpFile("dup.yaml", y));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("lines 3 and 5"), std::string::npos) << r.out;
+}
+
+TEST(ConfigParsing, HugeListIndexNamesTheKey) {
+  const CmdResult r =
+      runCli("--scenario 1 --mode rac --set scenario.theta.12345678901234567890.until=3");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(r.out.find("stoul"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("scenario.theta.12345678901234567890.until"), std::string::npos) << r.out;
+  ParamValue t = test::packageTree();
+  EXPECT_EQ(t.findPath("scenario.theta.12345678901234567890.until"), nullptr);
+  EXPECT_THROW(t.setPath("scenario.theta.99.until", ParamValue::makeDouble(1.0)),
+               std::out_of_range);
+}
+
+TEST(ConfigParsing, BadCeReportsOnlyCe) {
+  ParamValue t = test::packageTree();
+  t.setPath("controller.attention.c_e", ParamValue::makeDouble(0.0));
+  t.setPath("controller.attention.hysteresis", ParamValue::makeDouble(0.001));
+  const auto ps = problemsOf(t);
+  EXPECT_TRUE(mentions(ps, "controller.attention.c_e: must be in [1e-06, 1], got 0")) << joined(ps);
+  EXPECT_FALSE(mentions(ps, "hysteresis")) << joined(ps);
+  EXPECT_EQ(ps.size(), 1u) << joined(ps);
+}
+
+TEST(ConfigTuning, RuntimeTuningWithinTheYamlsRanges) {
+  const RunConfig rc = test::packageConfig("1");
+  const ControllerTunables base = ControllerTunables::of(rc.controller);
+  const struct {
+    std::function<void(ControllerTunables*)> set;
+    std::string key;
+  } cases[] = {
+      {[](ControllerTunables* t) { t->gamma = 1e308; }, "controller.adaptation.gamma"},
+      {[](ControllerTunables* t) { t->c_e = 1e300; }, "controller.attention.c_e"},
+      {[](ControllerTunables* t) { t->c_ed = 1e-300; }, "controller.attention.c_ed"},
+      {[](ControllerTunables* t) { t->confirm_samples = 2147483647; },
+       "controller.attention.confirm_samples"},
+      {[](ControllerTunables* t) { t->gamma_pa = 1e300; }, "controller.preadaptation.gamma_pa"},
+  };
+  for (const auto& c : cases) {
+    ControllerTunables t = base;
+    c.set(&t);
+    const auto ps = validateTunables(rc.controller, t);
+    EXPECT_EQ(ps.size(), 1u) << c.key << "\n" << joined(ps);
+    EXPECT_TRUE(mentions(ps, c.key + ": must be in")) << joined(ps);
+  }
+  EXPECT_TRUE(validateTunables(rc.controller, base).empty());
 }

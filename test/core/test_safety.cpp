@@ -158,7 +158,7 @@ TEST(Config, SafetyOptionsAreValidated) {
   }
   for (const char* key : {"plant.actuator.max_rate: must be > 0", "plant.noise.std: must be >= 0",
                           "controller.attention.hysteresis: must be in [0, c_e",
-                          "controller.attention.confirm_samples: must be >= 0",
+                          "controller.attention.confirm_samples: must be in [0, 100000]",
                           "controller.projection.epsilon: must be in (0, 1]"})
     EXPECT_NE(all.find(key), std::string::npos) << key << "\n" << all;
 }

@@ -114,7 +114,7 @@ TEST(Tunables, InvalidValuesAreRefusedNamingTheKey) {
   };
   ControllerTunables t = before;
   t.c_ed = 0.0;
-  refused(t, "controller.attention.c_ed: must be > 0, got 0");
+  refused(t, "controller.attention.c_ed: must be in [1e-06, 10], got 0");
   t = before;
   t.hysteresis = before.c_e;  // must stay below c_e
   refused(t, "controller.attention.hysteresis");

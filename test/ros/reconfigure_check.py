@@ -4,10 +4,12 @@
 The test publishes the plant's recorder progress (/gate/progress), so the lockstep plant stops
 about 2000 steps past what the test has released: it holds the run near step 3000, before the
 first switch (5 s). There it sends through the dynamic_reconfigure client
-  - c_ed = -1 (refused by the core's validation: "must be > 0, got -1": the value asked,
+  - c_ed = -1 (refused by the core's validation: "must be in [1e-06, 10], got -1": the value asked,
     not one the server clamped it to), and hysteresis = 0.006 >= c_e (a rule no cfg range can
     express): both answered with the old values and `refusal` naming the key and the value
     asked (what dynparam and rqt_reconfigure show), and an ERROR naming them on /rosout;
+  - gamma 1e308 with c_e 1e300, c_ed 1e-300, confirm_samples 2147483647 through scripts/tune:
+    refused (beyond the YAML's ranges), the client exits 2 naming each key and value;
   - c_ed = 0.015 (the paper's 0.02 misses the switches at 5 s and 20 s; 0.015 sees them).
 Then it releases the plant and, after the run, closes the recorder's bag once the recorder's
 progress says it holds the last step of the states, commands and statuses, and checks:
@@ -139,7 +141,7 @@ class ReconfigureTest(unittest.TestCase):
 
         got = client.update_configuration({"c_ed": -1.0})
         self.assertEqual(got["c_ed"], 0.02)
-        refusal = "/mrac_controller/controller/attention/c_ed: must be > 0, got -1"
+        refusal = "/mrac_controller/controller/attention/c_ed: must be in [1e-06, 10], got -1"
         self.assertIn(refusal, got["refusal"])
         wait_for(lambda: self.logged(refusal), 10, "the refusal of c_ed = -1 on /rosout")
         got = client.update_configuration({"hysteresis": 0.006})
@@ -151,6 +153,26 @@ class ReconfigureTest(unittest.TestCase):
             10,
             "the refusal of hysteresis = 0.006 on /rosout",
         )
+        # Values far outside the safe ranges (the YAML's), through the package's own client:
+        # refused, exit 2, each key and value named; nothing changes (no ParamChange).
+        tune = find_in_workspaces(["libexec"], project=PKG, path="tune", first_match_only=True)
+        self.assertTrue(tune, "scripts/tune not found")
+        for pairs, named in (
+            (
+                ["gamma=1e308", "c_e=1e300"],
+                ["adaptation/gamma", "got 1e+308", "attention/c_e", "got 1e+300"],
+            ),
+            (["c_ed=1e-300"], ["attention/c_ed", "got 1e-300"]),
+            (["confirm_samples=2147483647"], ["attention/confirm_samples", "got 2147483647"]),
+        ):
+            p = subprocess.run(
+                [tune[0], "--timeout", "10"] + pairs,
+                stderr=subprocess.PIPE,
+                universal_newlines=True,
+            )
+            self.assertEqual(p.returncode, 2, p.stderr)
+            for n in named:
+                self.assertIn(n, p.stderr)
         got = client.update_configuration({"c_ed": 0.015})
         self.assertEqual(got["c_ed"], 0.015)
         self.assertEqual(got["refusal"], "")

@@ -26,6 +26,15 @@ std::string scenarioPath(const std::string& arg);
 std::string defaultPlantPath();
 std::string defaultControllerPath();
 
+/// \brief The longest run (every `until` of a scenario) and the most steps (the scenario's end
+/// over the step), checked when a configuration is read, before a run allocates anything
+/// (docs/reference/limits.md). A step recorded for --csv is about 350 bytes.
+constexpr double kMaxRunSeconds = 86400.0;
+constexpr long long kMaxRunSteps = 10000000;
+/// \brief Why a run of `end_s` seconds at `dt` seconds a step is too long ("" when it is not,
+/// or when either is not positive: those are refused by their own keys).
+std::string runLengthProblem(double end_s, double dt);
+
 /// \brief Every section a run needs, validated.
 struct RunConfig {
   PlantConfig plant;

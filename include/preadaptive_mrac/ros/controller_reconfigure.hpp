@@ -24,6 +24,12 @@ ControllerTunables fromReconfigure(const ControllerTuningConfig& c);
 /// \brief The reconfigure values showing `t`.
 void toReconfigure(const ControllerTunables& t, ControllerTuningConfig* c);
 
+/// \brief When a step's command or estimate is not finite (an adaptation that diverged: theta_hat
+/// overflowed), reset the controller to its start (theta_hat0, the attention idle, the reference
+/// model at x0) and answer the step with the baseline -K x within the elevator's limits, so no NaN
+/// is ever commanded. Returns true when it did; `out` is then the baseline's step.
+bool recoverNonFinite(Controller* ctl, const Vec& x, StepOutput* out);
+
 /// \brief Serves dynamic_reconfigure for a Controller and records the changes it applies.
 ///
 /// A request is checked with the core's validation (validateTunables: the YAML's rules, keys
@@ -45,6 +51,11 @@ class ControllerReconfigure {
   /// each changed key stamped with the state's step, t and stamp.
   void afterStep(const StepOutput& out, std::uint64_t step, double t, const ros::Time& stamp);
 
+  /// \brief recoverNonFinite() on the node's controller, said once (an ERROR naming the step),
+  /// then counted: nonFiniteResets(), in the diagnostics.
+  bool recover(StepOutput* out, const Vec& x, std::uint64_t step, double t);
+  std::int64_t nonFiniteResets() const { return non_finite_resets_; }
+
   /// \brief Requests refused so far.
   std::int64_t refused() const { return refused_; }
   /// \brief The problems of the last request when it was refused, '' after an accepted one.
@@ -62,7 +73,7 @@ class ControllerReconfigure {
   ros::Publisher change_pub_;
   ControllerTunables in_effect_;  ///< what the controller runs with
   ControllerTunables accepted_;   ///< the last accepted request (queued or in effect)
-  std::int64_t refused_ = 0, applied_ = 0;
+  std::int64_t refused_ = 0, applied_ = 0, non_finite_resets_ = 0;
   std::string last_refusal_;
   boost::recursive_mutex server_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<ControllerTuningConfig>> server_;

@@ -15,7 +15,9 @@ namespace ros1 {
 
 /// \brief Convert one parameter-server value: int, double, bool, string, array and struct map
 /// onto the tree's types; date-time and base64 (never written by rosparam YAML) become null
-/// so that the readers report them as the wrong type.
+/// so that the readers report them as the wrong type. A string that YAML 1.2 reads as a number
+/// with an exponent ("1e-3", "1.0e300": a string to rosparam's YAML 1.1) becomes that number, as
+/// the CLI reads it.
 ParamValue fromXmlRpc(const XmlRpc::XmlRpcValue& v);
 
 /// \brief Exit code of a node whose configuration was refused.

@@ -41,7 +41,9 @@ ControllerConfig ControllerConfig::read(ParamReader& r, int n, const std::string
 
 void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) const {
   checkRanges(r, p, *this);
-  if (r.usable(p + ".attention.hysteresis") && !(hysteresis >= 0.0 && hysteresis < c_e))
+  // against c_e only when c_e itself was accepted: a bad c_e is reported once, by its own key
+  if (r.usable(p + ".attention.hysteresis") && !r.failed(p + ".attention.c_e") &&
+      !(hysteresis >= 0.0 && hysteresis < c_e))
     r.fail(p + ".attention.hysteresis",
            "must be in [0, c_e = " + formatNumber(c_e) + "), got " + formatNumber(hysteresis));
   if (r.has(p + ".projection") && projection && theta_hat0.size() > 0 &&

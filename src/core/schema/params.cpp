@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 
 namespace preadaptive_mrac {
 
@@ -21,6 +22,14 @@ std::vector<std::string> splitDotted(const std::string& dotted) {
   }
   parts.push_back(cur);
   return parts;
+}
+
+// A list index in a dotted key ("theta.2"): its digits as a number, or -1 when `part` is not
+// all digits; an index of more digits than any list can have reads as one past every list.
+long long listIndex(const std::string& part) {
+  if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos) return -1;
+  if (part.size() > 9) return 1000000000LL;
+  return std::stoll(part);
 }
 
 std::string joinProblems(const std::vector<std::string>& problems) {
@@ -76,11 +85,10 @@ ParamValue& ParamValue::child(const std::string& key) {
 const ParamValue* ParamValue::findPath(const std::string& dotted) const {
   const ParamValue* cur = this;
   for (const auto& part : splitDotted(dotted)) {
-    if (cur->type_ == Type::kList && !part.empty() &&
-        part.find_first_not_of("0123456789") == std::string::npos) {
-      const size_t idx = std::stoul(part);
-      if (idx >= cur->list_.size()) return nullptr;
-      cur = &cur->list_[idx];
+    const long long idx = cur->type_ == Type::kList ? listIndex(part) : -1;
+    if (idx >= 0) {
+      if (static_cast<size_t>(idx) >= cur->list_.size()) return nullptr;
+      cur = &cur->list_[static_cast<size_t>(idx)];
       continue;
     }
     cur = cur->find(part);
@@ -92,10 +100,14 @@ const ParamValue* ParamValue::findPath(const std::string& dotted) const {
 void ParamValue::setPath(const std::string& dotted, ParamValue v) {
   ParamValue* cur = this;
   for (const auto& part : splitDotted(dotted)) {
-    if (cur->type_ == Type::kList && !part.empty() &&
-        part.find_first_not_of("0123456789") == std::string::npos &&
-        std::stoul(part) < cur->list_.size()) {
-      cur = &cur->list_[std::stoul(part)];
+    const long long idx = cur->type_ == Type::kList ? listIndex(part) : -1;
+    if (idx >= 0) {
+      // A list is not silently replaced by a map holding one entry: the index must exist.
+      if (static_cast<size_t>(idx) >= cur->list_.size())
+        throw std::out_of_range(
+            dotted + ": index " + (part.size() > 9 ? part.substr(0, 9) + "..." : part) +
+            " is past the end of the list (" + std::to_string(cur->list_.size()) + " entries)");
+      cur = &cur->list_[static_cast<size_t>(idx)];
       continue;
     }
     cur = &cur->child(part);

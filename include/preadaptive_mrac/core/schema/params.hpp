@@ -52,7 +52,8 @@ class ParamValue {
   /// \brief Node at a dotted path ("controller.attention.c_e"; a number indexes a list:
   /// "scenario.theta.0.until"), or nullptr.
   const ParamValue* findPath(const std::string& dotted) const;
-  /// \brief Set the node at a dotted path, creating maps on the way.
+  /// \brief Set the node at a dotted path, creating maps on the way. Throws std::out_of_range
+  /// (naming the key) for a list index past the end of its list.
   void setPath(const std::string& dotted, ParamValue v);
   /// \brief Merge another map into this one; keys of `other` win, maps merge recursively.
   void merge(const ParamValue& other);
