@@ -41,11 +41,22 @@ boost::shared_ptr<M const> instantiateAs(const topic_tools::ShapeShifter& msg) {
 }  // namespace
 
 BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params)
-    : ctx_(ctx), nh_(ctx.nh()), params_(params), progress_every_(params.progress_every) {
+    : ctx_(ctx),
+      nh_(ctx.nh()),
+      params_(params),
+      guard_(makePublisherGuard(ctx, params.accept_from)),
+      progress_every_(params.progress_every) {
   base_ =
       params.output.empty() ? params.output_prefix + "_" + dateSuffix() + ".bag" : params.output;
+  // One missing folder is made (bag_dir); a path whose parent does not exist is refused, so a
+  // mistyped path does not grow a tree of folders anywhere the node may write.
   const std::filesystem::path dir = std::filesystem::path(base_).parent_path();
-  if (!dir.empty()) std::filesystem::create_directories(dir);
+  if (!dir.empty() && !std::filesystem::is_directory(dir)) {
+    if (!dir.parent_path().empty() && !std::filesystem::is_directory(dir.parent_path()))
+      throw std::runtime_error("the folder of " + base_ + " does not exist, nor does " +
+                               dir.parent_path().string() + " (only one missing folder is made)");
+    std::filesystem::create_directory(dir);
+  }
   single_ = base_;
   // Split series are named like rosbag record --split: <base>_0.bag, <base>_1.bag, ...
   if (base_.size() > 4 && base_.compare(base_.size() - 4, 4, ".bag") == 0)
@@ -86,29 +97,42 @@ BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params
   // commands' last ones on their way to a slow subscriber (reconfigure.test, 1 run in 3).
   progress_pub_ = ctx.pnh().advertise<RecorderProgress>("progress", 0);
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
+  if (guard_.enabled())
+    ROS_INFO("writing messages only from %s (~accept_from)", guard_.acceptedText().c_str());
 }
 
 void BagRecorder::openBag() {
   const bool split = params_.split_size_mb > 0.0 || params_.split_duration > 0.0;
   path_ = split ? base_ + "_" + std::to_string(index_) + ".bag" : single_;
+  // Nothing recorded before is replaced: an existing bag (or one being written) of this name.
+  for (const std::string& p : {path_, path_ + ".active"})
+    if (std::filesystem::exists(p))
+      throw std::runtime_error(p + " exists: not replaced (choose another ~output)");
   bag_.open(path_ + ".active", static_cast<std::uint32_t>(params_.chunk_size_kb) * 1024u);
   opened_wall_ = ros::WallTime::now().toSec();
 }
 
-void BagRecorder::closeBag() {
+bool BagRecorder::closeBag() {
   // The file open is <name>.active; path_ may have been renamed since (finish: incomplete).
   const std::string active = bag_.fileName();
   try {
     bag_.close();
   } catch (const std::exception& e) {
-    // Not thrown on: finish() runs in the destructor. The file keeps its `.active` name.
+    // Not thrown on: finish() runs in the destructor. The file keeps its `.active` name, and
+    // path_ says so: the name reported is the file that exists.
     ROS_ERROR("could not close %s: %s", active.c_str(), e.what());
-    return;
+    if (write_failures_++ == 0) write_error_ = e.what();
+    path_ = active;
+    return false;
   }
   std::error_code ec;
   std::filesystem::rename(active, path_, ec);
-  if (ec)
+  if (ec) {
     ROS_ERROR("could not rename %s to %s: %s", active.c_str(), path_.c_str(), ec.message().c_str());
+    path_ = active;
+    return false;
+  }
+  return true;
 }
 
 bool BagRecorder::splitDue() const {
@@ -142,6 +166,7 @@ bool BagRecorder::hasHeader(const topic_tools::ShapeShifter& msg) {
 
 void BagRecorder::callback(const std::string& topic,
                            const ros::MessageEvent<topic_tools::ShapeShifter const>& ev) {
+  if (!guard_.admitEvent(ev, topic)) return;
   const topic_tools::ShapeShifter& msg = *ev.getConstMessage();
   ros::Time t = ros::Time::now();
   if (hasHeader(msg) && msg.size() >= 12) {
@@ -180,6 +205,7 @@ ros::Subscriber BagRecorder::subscribeTyped(const std::string& resolved) {
 
 template <class M>
 void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEvent<M const>& ev) {
+  if (!guard_.admitEvent(ev, topic)) return;
   const M& msg = *ev.getConstMessage();
   ros::Time t = ros::Time::now();
   const PlantState* state = nullptr;
@@ -238,6 +264,7 @@ void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
       openBag();
     }
   } catch (const std::exception& e) {
+    if (write_failures_++ == 0) write_error_ = e.what();
     ROS_ERROR_THROTTLE(1.0, "bag write failed on %s: %s", topic.c_str(), e.what());
   }
 }
@@ -290,20 +317,31 @@ void BagRecorder::finish() {
     return;
   }
   // A plant's states stopped before its last step (another node refused or died, or the run
-  // was interrupted): kept, under a name that says so.
-  if (!complete) path_ = path_.substr(0, path_.size() - 4) + ".incomplete.bag";
+  // was interrupted), or messages could not be written (a full disk): kept, under a name that
+  // says so.
+  const bool lost = write_failures_ > 0;
+  if (!complete || lost) path_ = path_.substr(0, path_.size() - 4) + ".incomplete.bag";
   // A run that left the flight envelope: <name>.envelope_exit.bag (and the line below says it).
   if (!envelope_exit_.empty()) path_ = path_.substr(0, path_.size() - 4) + ".envelope_exit.bag";
-  closeBag();
+  const bool closed = closeBag();
   std::string summary;
   for (const auto& kv : counts_) summary += " " + kv.first + "=" + std::to_string(kv.second);
   std::string repeats;
   for (const auto& kv : repeats_) repeats += " " + kv.first + "=" + std::to_string(kv.second);
   if (!repeats.empty()) summary += "; repeats not written again:" + repeats;
+  if (guard_.dropped() > 0)
+    summary += "; not written, from publishers not in ~accept_from: " + guard_.droppedText();
+  // The reason given is the real one: lost writes (and an unclosed file) before a short run.
+  std::string why;
+  if (lost)
+    why = " (incomplete: " + std::to_string(write_failures_) +
+          " message(s) or the index could not be written: " + write_error_ + ")";
+  else if (!complete)
+    why = " (incomplete: a plant stopped before its last step)";
   ctx_.printFinal(
-      "closed " + path_ +
-      (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) +
-      (complete ? "" : " (incomplete: a plant stopped before its last step)") +
+      (closed ? "closed " : "could not close the bag; what was written is in ") + path_ +
+      (closed ? std::string() : " (unindexed: scripts/reindex_bags recovers it)") +
+      (index_ > 0 ? " (" + std::to_string(index_ + 1) + " split bags)" : std::string()) + why +
       (envelope_exit_.empty() ? "" : " (left the flight envelope at " + envelope_exit_ + ")") +
       "; messages:" + summary);
 }

@@ -31,6 +31,52 @@ LatencySummary summarizeLatency(std::vector<double> samples_us) {
   return s;
 }
 
+std::size_t LatencyStats::binOf(double us) {
+  if (!(us >= 1.0)) return 0;
+  const double b = 1.0 + std::floor(std::log(us) / std::log(kRatio));
+  return b >= static_cast<double>(kBins - 1) ? kBins - 1 : static_cast<std::size_t>(b);
+}
+
+void LatencyStats::add(double us) {
+  if (!std::isfinite(us)) {
+    ++non_finite_;
+    return;
+  }
+  if (count_ == 0 || us < min_) min_ = us;
+  if (count_ == 0 || us > max_) max_ = us;
+  ++count_;
+  sum_ += us;
+  ++bins_[binOf(us)];
+}
+
+double LatencyStats::percentile(double p) const {
+  auto rank = static_cast<std::uint64_t>(std::ceil(p * static_cast<double>(count_)));
+  rank = std::max<std::uint64_t>(1, std::min(rank, count_));
+  std::uint64_t seen = 0;
+  std::size_t b = 0;
+  for (; b < kBins; ++b) {
+    seen += bins_[b];
+    if (seen >= rank) break;
+  }
+  // Bin b >= 1 holds [kRatio^(b-1), kRatio^b); bin 0 everything below 1 us (said as 0), the
+  // last everything above kTopUs (said as the largest sample).
+  const double mid = b == 0           ? 0.0
+                     : b >= kBins - 1 ? max_
+                                      : std::pow(kRatio, static_cast<double>(b) - 0.5);
+  return std::max(min_, std::min(max_, mid));
+}
+
+LatencySummary LatencyStats::summary() const {
+  LatencySummary s;
+  s.count = static_cast<std::size_t>(count_);
+  if (count_ == 0) return s;
+  s.p50_us = percentile(0.50);
+  s.p99_us = percentile(0.99);
+  s.max_us = max_;
+  s.mean_us = sum_ / static_cast<double>(count_);
+  return s;
+}
+
 std::string runReportJson(const RunReport& r) {
   nlohmann::ordered_json j;
   j["clock"] = r.clock;

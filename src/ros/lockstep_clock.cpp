@@ -22,7 +22,6 @@ LockstepClock::LockstepClock(PlantSimNode& node) : PlantClock(node) {
           if (m->data) node_.controller_ready_ = true;
         });
   }
-  publish_wall_.assign(static_cast<size_t>(node_.sim_.totalSteps()), 0.0);
 }
 
 bool LockstepClock::take(const ElevatorCommand& msg, double arrival, double* latency_us) {
@@ -39,7 +38,8 @@ bool LockstepClock::take(const ElevatorCommand& msg, double arrival, double* lat
                       static_cast<unsigned long long>(expected));
     return false;
   }
-  *latency_us = 1e6 * (arrival - publish_wall_[static_cast<size_t>(expected)]);
+  // Only the awaited step's state is ever answered; a resend keeps its first publication.
+  *latency_us = published_step_ == expected ? 1e6 * (arrival - published_wall_) : 0.0;
   return true;
 }
 
@@ -50,7 +50,8 @@ void LockstepClock::progress(const RecorderProgress& msg) {
 }
 
 void LockstepClock::published(std::uint64_t step, double wall) {
-  publish_wall_[static_cast<size_t>(step)] = wall;
+  published_step_ = step;
+  published_wall_ = wall;
 }
 
 bool LockstepClock::waitForRecorder(std::uint64_t step, std::uint64_t lag) {

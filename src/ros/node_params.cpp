@@ -1,6 +1,7 @@
 #include "preadaptive_mrac/ros/node_params.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <functional>
 #include <initializer_list>
 #include <set>
@@ -130,6 +131,11 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                              "', body='" + p.body_frame + "', velocity='" + p.velocity_frame +
                              "')");
   p.accept_from = readCallerList(r, tree, "accept_from");
+  // Written at the end of the run: a file already there (an earlier run's report) is kept.
+  std::error_code ec;
+  if (!p.latency_report.empty() && std::filesystem::exists(p.latency_report, ec))
+    r.fail("latency_report",
+           "'" + p.latency_report + "' exists: not replaced (remove it or name a new file)");
 
   std::vector<std::string> problems = r.problems();
   try {
@@ -212,6 +218,7 @@ BagRecorderParams readBagRecorderParams(const ParamValue& tree, const KeyStyle& 
   }
   if (p.output.empty() && p.output_prefix.empty())
     r.fail("output", "set ~output or ~output_prefix");
+  p.accept_from = readCallerList(r, tree, "accept_from");
   if (!r.problems().empty()) throw ConfigError(r.problems());
   p.defaults_used = r.defaultsUsed();
   return p;

@@ -66,6 +66,17 @@ class PlantSimNodelet : public ContextNodelet {
     unloading_ = true;
     if (ctx_) ctx_->stop();
     if (thread_.joinable()) thread_.join();
+    // Unloaded mid-run while the manager goes on: its loader was killed (the bond broke) or
+    // unloaded it. The run is over, so a required plant ends the manager as its own end does:
+    // the launch ends and the recorder closes its bag as incomplete (else the controller would
+    // go on sending stale commands to no plant, and the recorder writing them, without end).
+    if (node_ && !run_over_ && !node_->report().completed && ros::ok() && !ros::isShuttingDown()) {
+      ROS_ERROR(
+          "%s: unloaded before its run ended (its loader has gone): the run ends here "
+          "(exit code %d)",
+          ctx_->name().c_str(), kExitRuntimeError);
+      ctx_->end(kExitRuntimeError);
+    }
   }
 
  private:
@@ -78,7 +89,10 @@ class PlantSimNodelet : public ContextNodelet {
     thread_ = std::thread([this] {
       nameThisThread();
       const int code = node_->run();
-      if (!unloading_) ctx_->end(code);
+      if (!unloading_) {
+        run_over_ = true;
+        ctx_->end(code);
+      }
     });
   }
 
@@ -86,6 +100,7 @@ class PlantSimNodelet : public ContextNodelet {
   std::unique_ptr<PlantSimNode> node_;
   std::thread thread_;
   std::atomic<bool> unloading_{false};
+  std::atomic<bool> run_over_{false};  ///< run() returned by itself (not for an unload)
 };
 
 /// \brief A node class whose callbacks do all the work (controller, recorder, run monitor):

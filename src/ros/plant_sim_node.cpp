@@ -74,7 +74,6 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
-  latency_us_.reserve(static_cast<size_t>(sim_.totalSteps()));
   // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0); an
   // engine's own pitch attitude (the trim's at the start).
   const int out = sim_.plant().outputIndex();
@@ -106,7 +105,7 @@ void PlantSimNode::commandCallback(const ros::MessageEvent<ElevatorCommand const
   }
   double latency_us = 0.0;
   if (!clock_->take(*msg, arrival, &latency_us)) return;
-  latency_us_.push_back(latency_us);
+  latency_us_.add(latency_us);
   ++commands_received_;
   have_cmd_ = true;
   cmd_step_ = msg->step;
@@ -393,7 +392,7 @@ RunReport PlantSimNode::report() const {
   r.wall_time_s = (wall_end_ > 0.0 ? wall_end_ : wallNow()) - wall_start_;
   r.commands_received = commands_received_;
   r.commands_ignored = commands_ignored_;
-  r.latency = summarizeLatency(latency_us_);
+  r.latency = latency_us_.summary();
   r.scheduling = scheduling_;
   clock_->report(&r);
   return r;

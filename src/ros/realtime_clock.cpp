@@ -5,9 +5,7 @@
 namespace preadaptive_mrac {
 namespace ros1 {
 
-RealtimeClock::RealtimeClock(PlantSimNode& node) : PlantClock(node) {
-  tick_late_us_.reserve(static_cast<size_t>(node_.sim_.totalSteps()));
-}
+RealtimeClock::RealtimeClock(PlantSimNode& node) : PlantClock(node) {}
 
 bool RealtimeClock::take(const ElevatorCommand& msg, double arrival, double* latency_us) {
   // An answer to a state always supersedes a command of the controller's staleness timer
@@ -88,7 +86,7 @@ int RealtimeClock::run() {
     double u = 0.0;
     {
       std::lock_guard<std::mutex> lock(n.mutex_);
-      tick_late_us_.push_back(late_us);
+      tick_late_us_.add(late_us);
       // Behind schedule the ticks run back to back until the simulation has caught up.
       if (ticks.late()) ++late_ticks_;
       gave_up = !heldCommand(first_cmd_deadline, &u);
@@ -124,7 +122,7 @@ void RealtimeClock::report(RunReport* r) const {
   r->rate_hz = node_.params_.rate;
   r->stale_steps = stale_steps_;
   r->late_ticks = late_ticks_;
-  r->tick_late = summarizeLatency(tick_late_us_);
+  r->tick_late = tick_late_us_.summary();
 }
 
 }  // namespace ros1

@@ -14,9 +14,11 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -346,7 +348,8 @@ TEST(BagRecorderParams, DefaultsAndListsRead) {
   EXPECT_EQ(p.chunk_size_kb, 768);
   EXPECT_EQ(pm::ros1::defaultsLine(p.defaults_used),
             "optional keys filled with defaults: /rec/progress_every = 100, "
-            "/rec/split_size_mb = 0, /rec/split_duration = 0, /rec/chunk_size_kb = 768");
+            "/rec/split_size_mb = 0, /rec/split_duration = 0, /rec/chunk_size_kb = 768, "
+            "/rec/accept_from = [] (any publisher)");
 }
 
 TEST(BagRecorderParams, EveryProblemAtOnceNamingTheKey) {
@@ -458,6 +461,57 @@ TEST(LatencyStats, NearestRankPercentiles) {
   const auto none = pm::ros1::summarizeLatency({});
   EXPECT_EQ(none.count, 0u);
   EXPECT_DOUBLE_EQ(none.max_us, 0.0);
+}
+
+TEST(PlantNodeParams, LatencyReportNeverReplacesAFile) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  char path[] = "/tmp/pmrac_latency_report_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  close(fd);
+  tree.setPath("latency_report", pm::ParamValue::makeString(path));
+  const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+  std::remove(path);
+  EXPECT_TRUE(anyContains(probs, "/plant_sim/latency_report")) << joined(probs);
+  EXPECT_TRUE(anyContains(probs, "exists: not replaced")) << joined(probs);
+  EXPECT_EQ(pm::ros1::readPlantNodeParams(tree, style("/plant_sim")).latency_report, path);
+}
+
+TEST(LatencyStats, HistogramMatchesNearestRankInFixedMemory) {
+  // Exponential-ish round trips from 5 us to 50 ms: the histogram's percentiles are the exact
+  // ones within its bin width, its max and mean exact; its size does not depend on the count.
+  std::mt19937_64 rng(40);
+  std::exponential_distribution<double> d(1.0 / 200.0);
+  std::vector<double> v;
+  pm::ros1::LatencyStats h;
+  const auto before = sizeof(h);
+  for (int i = 0; i < 200000; ++i) {
+    const double x = 5.0 + std::min(d(rng), 5e4);
+    v.push_back(x);
+    h.add(x);
+  }
+  const auto exact = pm::ros1::summarizeLatency(v);
+  const auto s = h.summary();
+  EXPECT_EQ(s.count, exact.count);
+  EXPECT_NEAR(s.p50_us, exact.p50_us, 0.0025 * exact.p50_us);
+  EXPECT_NEAR(s.p99_us, exact.p99_us, 0.0025 * exact.p99_us);
+  EXPECT_DOUBLE_EQ(s.max_us, exact.max_us);
+  EXPECT_NEAR(s.mean_us, exact.mean_us, 1e-9 * exact.mean_us);
+  EXPECT_EQ(sizeof(h), before);
+  EXPECT_LT(sizeof(h), 64u * 1024u);
+  // Below 1 us (negative too: two hosts' clocks), far above the top, and non-finite samples.
+  pm::ros1::LatencyStats e;
+  e.add(-3.0);
+  e.add(0.5);
+  e.add(1e12);
+  e.add(std::numeric_limits<double>::quiet_NaN());
+  const auto es = e.summary();
+  EXPECT_EQ(es.count, 3u);
+  EXPECT_EQ(e.nonFinite(), 1u);
+  EXPECT_DOUBLE_EQ(es.p50_us, 0.0);  // "below 1 us"
+  EXPECT_DOUBLE_EQ(es.max_us, 1e12);
+  EXPECT_DOUBLE_EQ(es.p99_us, 1e12);
+  EXPECT_EQ(pm::ros1::LatencyStats().summary().count, 0u);
 }
 
 TEST(LatencyStats, ReportJson) {

@@ -83,8 +83,9 @@ class BagRecorder {
   /// \brief Open bag number `index_` as `<path>.active` (like rosbag record), so a crash
   /// leaves a file that `rosbag reindex` (scripts/reindex_bags) can recover.
   void openBag();
-  /// \brief Close the bag and rename `<path>.active` to `<path>`.
-  void closeBag();
+  /// \brief Close the bag and rename `<path>.active` to `<path>`. False when it could not
+  /// (logged; path_ then names the `.active` file that is left).
+  bool closeBag();
   /// \brief Whether the split size or duration is reached (then the next bag is opened).
   bool splitDue() const;
 
@@ -98,7 +99,10 @@ class BagRecorder {
   std::string path_;           ///< the bag being written (final name, without `.active`)
   int index_ = 0;              ///< split number
   double opened_wall_ = 0.0;
-  BagWriter bag_;  ///< rosbag's file format, each chunk written in one go
+  BagWriter bag_;         ///< rosbag's file format, each chunk written in one go
+  PublisherGuard guard_;  ///< ~accept_from: messages of other publishers are never written
+  std::uint64_t write_failures_ = 0;  ///< messages that could not be written
+  std::string write_error_;           ///< the first write failure's reason
   std::vector<ros::Subscriber> subs_;
   ros::Publisher progress_pub_;
   int progress_every_ = 100;

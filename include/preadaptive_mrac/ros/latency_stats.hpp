@@ -3,6 +3,7 @@
 /// \brief Round-trip statistics of the plant node (state published -> command received) and
 /// its JSON report. ROS-free.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +20,34 @@ struct LatencySummary {
 /// \brief Nearest-rank percentiles (p50 = the ceil(0.5 n)-th smallest sample) of `samples_us`;
 /// all zero for no samples. Sorts a copy.
 LatencySummary summarizeLatency(std::vector<double> samples_us);
+
+/// \brief Latency samples [us] kept in a fixed histogram: its memory does not grow with the
+/// number of samples, so a run of any length costs the same. Bins are log-spaced by a factor
+/// kRatio from 1 us to kTopUs; a percentile is the geometric middle of the nearest-rank sample's
+/// bin (relative error <= (kRatio - 1) / 2, 0.25 %), clamped to the smallest and largest sample;
+/// count, mean and max are exact. Samples below 1 us (and negative ones: clocks of two hosts)
+/// fall into the first bin, whose percentile is 0, clamped; above kTopUs into the last.
+class LatencyStats {
+ public:
+  static constexpr double kRatio = 1.005;
+  static constexpr double kTopUs = 1e10;      ///< 10^4 s
+  static constexpr std::size_t kBins = 4619;  ///< ceil(ln(kTopUs) / ln(kRatio)) + 2
+
+  /// \brief Add one sample; non-finite samples are counted apart and never binned.
+  void add(double us);
+  /// \brief Nearest-rank p50 and p99, exact max and mean of the finite samples.
+  LatencySummary summary() const;
+  /// \brief Samples that were NaN or infinite (not in the summary).
+  std::uint64_t nonFinite() const { return non_finite_; }
+
+ private:
+  static std::size_t binOf(double us);
+  double percentile(double p) const;
+
+  std::array<std::uint64_t, kBins> bins_{};
+  std::uint64_t count_ = 0, non_finite_ = 0;
+  double sum_ = 0.0, min_ = 0.0, max_ = 0.0;
+};
 
 /// \brief What the plant node reports at the end of a run.
 struct RunReport {

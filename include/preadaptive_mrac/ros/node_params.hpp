@@ -44,6 +44,9 @@ struct ControllerNodeParams : MracControllerNodeParams {
 /// (BagRecorderNodeParams, generated: ~output, ~progress_every, the split sizes, ...) and the
 /// lists ~topics and ~types, read by hand.
 struct BagRecorderParams : BagRecorderNodeParams {
+  /// ~accept_from: the nodes whose messages are written ([] = any publisher), as the plant's
+  /// and the controller's own ~accept_from.
+  std::vector<std::string> accept_from;
   /// Every optional key left out and filled with its default.
   std::vector<std::string> defaults_used;
 };

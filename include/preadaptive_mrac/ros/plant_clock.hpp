@@ -84,7 +84,8 @@ class LockstepClock : public PlantClock {
   std::uint64_t recorded_step_ = 0;      ///< last state step the recorder has written
   std::int64_t stale_cmds_ignored_ = 0;  ///< the controller's staleness-timer commands
   std::int64_t resent_ = 0, recorder_waits_ = 0;
-  std::vector<double> publish_wall_;  ///< wall time [s] state k was published
+  std::uint64_t published_step_ = 0;  ///< the last state published (the one awaited)
+  double published_wall_ = 0.0;       ///< its wall time of publication [s]
 };
 
 /// \brief Realtime: a wall-clock tick every 1/~rate s (absolute deadlines) advances with the
@@ -107,7 +108,7 @@ class RealtimeClock : public PlantClock {
   std::int64_t trim_episodes_ = 0;  ///< times the plant fell back to trim
   bool in_trim_ = false;
   std::int64_t stale_steps_ = 0, late_ticks_ = 0;
-  std::vector<double> tick_late_us_;  ///< wake-up after each tick's deadline [us]
+  LatencyStats tick_late_us_;  ///< wake-up after each tick's deadline [us]
 };
 
 /// \brief The clock ~clock names.

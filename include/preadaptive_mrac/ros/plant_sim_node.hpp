@@ -119,8 +119,8 @@ class PlantSimNode {
   double last_cmd_wall_ = 0.0;          ///< wall time [s] of the last accepted command
   std::string last_rejection_;
   RateMeter step_rate_, cmd_rate_;  ///< wall-clock rates for the diagnostics
-  std::vector<double> latency_us_;
-  std::string scheduling_;  ///< the loop thread's scheduling
+  LatencyStats latency_us_;         ///< round trips [us], in memory that does not grow with the run
+  std::string scheduling_;          ///< the loop thread's scheduling
   double wall_start_ = 0.0, wall_end_ = 0.0;
   bool completed_ = false;
   std::unique_ptr<PlantClock> clock_;  ///< ~clock: the loop; made last
