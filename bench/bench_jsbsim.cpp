@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_plant.hpp"
 #include "preadaptive_mrac/core/sim/scenario_plant.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_plant.hpp"
 
 using namespace preadaptive_mrac;
 using Clock = std::chrono::steady_clock;

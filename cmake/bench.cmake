@@ -21,10 +21,10 @@ add_executable(wakeup_floor bench/wakeup_floor.cpp)
 set_target_properties(wakeup_floor PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
-# The plant engines' per-step cost (issue 36): linear RK4 against the JSBSim coupling, and the
+# The plant engines' per-step cost: linear RK4 against the JSBSim coupling, and the
 # socket round trips under it. Needs JSBSim at run time (scripts/install_jsbsim), not to build.
 add_executable(bench_jsbsim bench/bench_jsbsim.cpp)
-target_link_libraries(bench_jsbsim preadaptive_mrac_io)
+target_link_libraries(bench_jsbsim preadaptive_mrac_io preadaptive_mrac_jsbsim)
 set_target_properties(bench_jsbsim PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 

@@ -30,9 +30,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/sim/turbulence.cpp
   src/core/sim/scenario_plant.cpp
   src/core/sim/envelope.cpp
-  src/core/sim/jsbsim/jsbsim_process.cpp
-  src/core/sim/jsbsim/jsbsim_plant.cpp
-  src/core/sim/jsbsim/jsbsim_linearise.cpp
+  src/core/sim/plant_engine.cpp
   src/core/sim/scenario.cpp
   src/core/control/network.cpp
   src/core/control/controller_config.cpp
@@ -59,6 +57,27 @@ pmrac_library(preadaptive_mrac_core
   src/core/sim/scenario_family.cpp
   src/core/control/input_guard.cpp
   src/core/control/tunables.cpp)
+
+# The JSBSim engine (process, socket, plant, linearisation): POSIX + STL on top of the core. It
+# registers itself with the core's engine registry (plant_engine.hpp) from a static initialiser,
+# so what links it must keep it although no symbol of it is referenced: a program takes its
+# objects (pmrac_link_engines), a shared library needs it loaded (--no-as-needed).
+pmrac_library(preadaptive_mrac_jsbsim
+  src/jsbsim/jsbsim_process.cpp
+  src/jsbsim/jsbsim_plant.cpp
+  src/jsbsim/jsbsim_linearise.cpp)
+target_link_libraries(preadaptive_mrac_jsbsim PUBLIC preadaptive_mrac_core)
+target_link_libraries(preadaptive_mrac_jsbsim_static PUBLIC preadaptive_mrac_core_static)
+# The plant engines beside the linear model, for `target`: STATIC (a batch tool linked
+# against the static archives) or SHARED.
+macro(pmrac_link_engines target kind)
+  if("${kind}" STREQUAL "STATIC")
+    target_link_libraries(${target} preadaptive_mrac_jsbsim_objects)
+  else()
+    target_link_libraries(${target} PUBLIC -Wl,--push-state,--no-as-needed preadaptive_mrac_jsbsim
+                          -Wl,--pop-state)
+  endif()
+endmacro()
 
 # io: YAML files, weights files, run set-up and JSON/CSV output (yaml-cpp, no ROS).
 pmrac_library(preadaptive_mrac_io
@@ -87,6 +106,7 @@ pmrac_library(preadaptive_mrac_cli src/tools/cli_common.cpp)
 target_link_libraries(preadaptive_mrac_cli_objects PUBLIC yaml-cpp Threads::Threads)
 target_link_libraries(preadaptive_mrac_cli PUBLIC preadaptive_mrac_io Threads::Threads)
 target_link_libraries(preadaptive_mrac_cli_static PUBLIC preadaptive_mrac_io_static Threads::Threads)
+pmrac_link_engines(preadaptive_mrac_cli SHARED)
 
 add_executable(preadapt_sim src/tools/preadapt_sim.cpp)
 target_link_libraries(preadapt_sim preadaptive_mrac_cli_static)
@@ -101,6 +121,9 @@ target_link_libraries(preadapt_trim preadaptive_mrac_cli_static)
 # Command-line tools: catkin's global bin (on PATH once a devel or install space is sourced),
 # with a link in the package's lib/ so that `rosrun preadaptive_mrac preadapt_sim` works too.
 set(PMRAC_BATCH_TOOLS preadapt_sim preadapt_sweep preadapt_family preadapt_margins preadapt_trim)
+foreach(t ${PMRAC_BATCH_TOOLS})
+  pmrac_link_engines(${t} STATIC)
+endforeach()
 set_target_properties(${PMRAC_BATCH_TOOLS} PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_GLOBAL_BIN_DESTINATION})
 if(PMRAC_TOOLS_FULLY_STATIC)

@@ -14,7 +14,7 @@
 
 # Libraries: the exported ones (catkin_package LIBRARIES), the nodes' and nodelets' (the
 # plugin file names lib/libpreadaptive_mrac_nodelets) and the loopback shim (scripts/lib/ros_env).
-install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_cli
+install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_jsbsim preadaptive_mrac_cli
                 preadaptive_mrac_ros_params preadaptive_mrac_ros preadaptive_mrac_nodelets
                 pmrac_loopback_bind
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

@@ -1,4 +1,4 @@
-# One declaration per parameter (issue 21): each table params/<component>.yaml becomes the header
+# One declaration per parameter: each table params/<component>.yaml becomes the header
 # preadaptive_mrac/params/<component>_params.hpp (its struct with defaults and docs, the
 # visitor the generic reader and range checks use, the tunables and their reconfigure copies),
 # written by src/preadaptive_mrac/params_codegen.py into the devel space's include folder,

@@ -1,4 +1,4 @@
-# ROS messages: owned by the ROS-nodes work (issue 3). Included before catkin_package().
+# ROS messages. Included before catkin_package().
 add_message_files(
   DIRECTORY msg
   FILES
@@ -11,7 +11,7 @@ add_message_files(
     ParamChange.msg)
 generate_messages(DEPENDENCIES std_msgs)
 
-# dynamic_reconfigure of the controller (issue 11): cfg/ControllerTuning.cfg generates
+# dynamic_reconfigure of the controller: cfg/ControllerTuning.cfg generates
 # preadaptive_mrac/ControllerTuningConfig.h (and the Python module) for src/ros/controller_reconfigure.cpp.
 generate_dynamic_reconfigure_options(cfg/ControllerTuning.cfg)
 # The .cfg reads its parameters from params/controller.yaml and its parts' tables (robust):

@@ -1,4 +1,4 @@
-# ROS nodes: owned by the ROS-nodes work (issue 3). Included after catkin_package().
+# ROS nodes. Included after catkin_package().
 # The node classes live in a library (so rostest gtests can reuse them); each node file
 # holds only main().
 
@@ -32,6 +32,7 @@ add_library(preadaptive_mrac_ros
   src/ros/bag_writer.cpp
   src/ros/controller_reconfigure.cpp)
 target_link_libraries(preadaptive_mrac_ros PUBLIC preadaptive_mrac_ros_params ${catkin_LIBRARIES})
+pmrac_link_engines(preadaptive_mrac_ros SHARED)
 add_dependencies(preadaptive_mrac_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
 add_executable(plant_sim_node src/nodes/plant_sim_node.cpp)
@@ -56,7 +57,7 @@ set_target_properties(pmrac_manager PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
 
-# Issue 11: LD_PRELOAD shim that keeps roscpp's XML-RPC server (which binds 0.0.0.0 whatever
+# LD_PRELOAD shim that keeps roscpp's XML-RPC server (which binds 0.0.0.0 whatever
 # ROS_IP says) on loopback in single-machine runs; preloaded by scripts/lib/ros_env.
 add_library(pmrac_loopback_bind SHARED src/loopback/loopback_bind.cpp)
 target_link_libraries(pmrac_loopback_bind ${CMAKE_DL_LIBS})

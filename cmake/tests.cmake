@@ -1,13 +1,17 @@
 # Tests: gtest for the core (no ROS master), rostest for the nodes (cmake/tests_ros.cmake).
 if(CATKIN_ENABLE_TESTING)
   set(PMRAC_CORE_TESTS solvers attention gradients closed_loop weights_io config safety family
-      robust robust_parts tunables fast_paths plant_parts margins param_table l1 jsbsim
+      robust robust_parts tunables fast_paths plant_parts margins param_table l1 plant_engine
       saturation)
   foreach(name ${PMRAC_CORE_TESTS})
     catkin_add_gtest(test_${name} test/core/test_${name}.cpp)
     target_link_libraries(test_${name} preadaptive_mrac_io gtest_main)
     target_include_directories(test_${name} PRIVATE test/core)
   endforeach()
+  # The JSBSim engine's own tests (the core's above build and pass without it).
+  catkin_add_gtest(test_jsbsim test/jsbsim/test_jsbsim.cpp)
+  target_link_libraries(test_jsbsim preadaptive_mrac_io preadaptive_mrac_jsbsim gtest_main)
+  target_include_directories(test_jsbsim PRIVATE test/core)
   target_compile_definitions(test_param_table PRIVATE
     PMRAC_PARAMS_DIR="${CMAKE_CURRENT_SOURCE_DIR}/params")
   # The CLI test runs the real executable.
@@ -16,7 +20,7 @@ if(CATKIN_ENABLE_TESTING)
     PMRAC_SIM_BIN="$<TARGET_FILE:preadapt_sim>" PMRAC_SWEEP_BIN="$<TARGET_FILE:preadapt_sweep>")
 endif()
 
-include(cmake/tests_ros.cmake)  # ROS node tests (issue 3)
+include(cmake/tests_ros.cmake)  # ROS node tests
 if(CATKIN_ENABLE_TESTING)
   add_dependencies(test_family preadapt_family)
   target_compile_definitions(test_family PRIVATE PMRAC_FAMILY_BIN="$<TARGET_FILE:preadapt_family>")

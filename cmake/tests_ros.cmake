@@ -1,4 +1,4 @@
-# ROS tests (issue 3): included from the end of cmake/tests.cmake.
+# ROS tests: included from the end of cmake/tests.cmake.
 # Two tiers: gtest without a master for the ROS-free glue, rostest for whole-node behaviour.
 # rostest runs one master per test on the same port, so `make run_tests` runs them one by one.
 if(CATKIN_ENABLE_TESTING)
@@ -10,7 +10,7 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_ros_node_params PRIVATE
     PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config"
     PMRAC_PARAMS_DIR="${CMAKE_CURRENT_SOURCE_DIR}/params")
-  # ~accept_from's matching (issue 11): which caller ids pass, drops counted and warned once.
+  # ~accept_from's matching: which caller ids pass, drops counted and warned once.
   catkin_add_gtest(test_ros_publisher_guard test/ros/test_publisher_guard.cpp)
   target_link_libraries(test_ros_publisher_guard preadaptive_mrac_ros_params gtest_main)
   # The controller's InlineCallbackQueue: messages run in the delivering thread, one callback
@@ -50,7 +50,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/lockstep.test ARGS mode:=pa_learn shape:=nodelet cpu_affinity:=0 name_suffix:=_cpu0
     DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                  preadaptive_mrac_nodelets preadapt_sim)
-  # Issue 20: the plant with servo delay, lag and Dryden turbulence, in both shapes (pa_robust
+  # The plant with servo delay, lag and Dryden turbulence, in both shapes (pa_robust
   # identifies the plant from the applied elevator): still the CLI's run, and the applied
   # elevator, the command and the gust published equal the CLI's CSV columns.
   foreach(shape nodelet process)
@@ -60,13 +60,13 @@ if(CATKIN_ENABLE_TESTING)
                    preadaptive_mrac_nodelets preadapt_sim)
   endforeach()
 
-  # Issue 35: a plant whose envelope scenario 1 leaves (max_alpha 0.05 rad): the truth says the
+  # A plant whose envelope scenario 1 leaves (max_alpha 0.05 rad): the truth says the
   # CLI's exit (bound, time) from the sample after it; the run goes on, still the CLI's run.
   add_rostest(test/ros/lockstep.test ARGS mode:=rac shape:=nodelet name_suffix:=_envelope
     test_plant:=envelope
     DEPENDENCIES test_ros_lockstep plant_sim_node mrac_controller_node pmrac_manager
                  preadaptive_mrac_nodelets preadapt_sim)
-  # Issue 36: JSBSim as the plant engine, in the plant node too: a 6 s scenario in lockstep
+  # JSBSim as the plant engine, in the plant node too: a 6 s scenario in lockstep
   # equals the batch CLI's run on JSBSim bit for bit (one process each: the plant node forks
   # its JSBSim, preadapt_sim its own).
   # In both shapes: in the nodelet shape the plant nodelet's JSBSim is forked from a thread
@@ -96,16 +96,16 @@ if(CATKIN_ENABLE_TESTING)
   # (behaviour, not speed: rates and latencies are the benchmarks' business).
   add_rostest(test/ros/realtime_answers.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
-  # Issue 24: the end of a realtime run is not a fault (no stale commands after the last state).
+  # The end of a realtime run is not a fault (no stale commands after the last state).
   add_rostest(test/ros/realtime_end.test
     DEPENDENCIES plant_sim_node mrac_controller_node)
-  # Issue 35: a run that loses the aircraft says so, and ends at a non-finite state.
+  # A run that loses the aircraft says so, and ends at a non-finite state.
   foreach(clock realtime lockstep)
     add_rostest(test/ros/envelope.test ARGS clock:=${clock}
       DEPENDENCIES plant_sim_node mrac_controller_node)
   endforeach()
 
-  # Issue 5, reliability (wall clock). The controller alone, fed by the test: NaN states are
+  # Reliability (wall clock). The controller alone, fed by the test: NaN states are
   # answered safely and do not refresh the staleness timer; silence gives stale safe commands
   # (-K x_last or 0) at the sample rate; /diagnostics reports rejections and staleness.
   foreach(policy baseline_hold zero)
@@ -125,7 +125,7 @@ if(CATKIN_ENABLE_TESTING)
   # Controller and plant SIGKILLed and restarted mid-run (realtime): trim, stale safe commands,
   # recovery, the controller resumes from its saved weights, the run completes.
   add_rostest(test/ros/faults.test DEPENDENCIES plant_sim_node mrac_controller_node)
-  # Issue 11: c_ed changed mid-run (lockstep) through the dynamic_reconfigure client, an invalid
+  # c_ed changed mid-run (lockstep) through the dynamic_reconfigure client, an invalid
   # value refused naming the key; the bag holds the change stamped with its step and equals
   # the CLI run with the new c_ed bit for bit.
   add_rostest(test/ros/reconfigure.test
@@ -134,7 +134,7 @@ if(CATKIN_ENABLE_TESTING)
   # learning episode, the plant waiting (repeating its state) until the restarted controller
   # answers; the run completes with every step answered.
   add_rostest(test/ros/faults_lockstep.test DEPENDENCIES plant_sim_node mrac_controller_node)
-  # Issue 11, ~accept_from: stray nodes publishing commands and states into the guarded loop
+  # ~accept_from: stray nodes publishing commands and states into the guarded loop
   # (realtime) are dropped, counted on /diagnostics and warned about once; the loop runs on.
   foreach(shape nodelet process)
     add_rostest(test/ros/stray_publisher.test ARGS shape:=${shape}

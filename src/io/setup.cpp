@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/sim/plant_engine.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
 namespace preadaptive_mrac {
@@ -104,11 +105,10 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
     r.rejectUnusedUnder("scenario");
     checkDurations(r, tree);
     if (sections.plant && !rc.scenario.faults.empty() &&
-        rc.plant.engine != PlantEngineKind::kJsbsim)
-      r.fail("scenario.faults",
-             "physical faults (CG shift, elevator effectiveness, pitch damping) need "
-             "plant.engine jsbsim: the linear model has no CG or aerodynamics (use theta or "
-             "scenario.effectiveness on it)");
+        !plantEngineRules(rc.plant.engine).physical_faults)
+      r.fail("scenario.faults", std::string(kFaultsNeedAerodynamics) +
+                                    ": the linear model has no CG or aerodynamics (use theta or "
+                                    "scenario.effectiveness on it)");
   }
   if (sections.strict_top_level && tree.type() == ParamValue::Type::kMap) {
     for (const auto& kv : tree.map()) {
@@ -295,8 +295,8 @@ void writeSeriesCsv(const std::string& path, const Series& s) {
   for (int i = 0; i < n; ++i) header += ",theta_true" + std::to_string(i);
   header += ",phase,u_baseline,u_adaptive,r,saturated";
   // Columns of the plant's conditions only when a run has them (Series::conditions, the rows
-  // of Series::condition_rows): a run of the ideal plant writes the same bytes as before they
-  // existed, a run of the linear plant never has the engine's rows.
+  // of Series::condition_rows): a run of the ideal plant writes the paper's columns alone, a
+  // run of the linear plant never has the engine's rows.
   std::vector<const PlantConditionColumn*> cols;
   if (!s.conditions.empty())
     for (const PlantConditionColumn& c : kPlantConditionTable)

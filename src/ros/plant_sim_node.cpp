@@ -9,7 +9,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_process.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 #include "preadaptive_mrac/ros/tick_source.hpp"
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_linearise.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_linearise.hpp"
 
 using namespace preadaptive_mrac;
 

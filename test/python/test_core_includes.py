@@ -18,6 +18,7 @@ class TestCoreIncludes(unittest.TestCase):
         self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
         self.assertIn('file cycles: none', out.stdout)
         self.assertNotRegex(out.stdout, r'(?m)^(sim|schema) +-> (control|robust)')
+        self.assertNotRegex(out.stdout, r'(?m)-> jsbsim ')
 
 
 if __name__ == '__main__':

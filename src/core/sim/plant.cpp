@@ -27,7 +27,7 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   if (r.has(prefix + ".actuator")) {
     const std::string a = prefix + ".actuator";
     // Delay and lag alone need no limits: the limit keys are required once any of them (or
-    // neither delay nor lag) is given, as before.
+    // neither delay nor lag) is given.
     const bool dynamics_only = (r.has(a + ".delay") || r.has(a + ".time_constant")) &&
                                !r.has(a + ".enabled") && !r.has(a + ".max_deflection") &&
                                !r.has(a + ".max_rate");
@@ -48,9 +48,9 @@ PlantConfig PlantConfig::read(ParamReader& r, const std::string& prefix) {
   } else {
     r.noteDefault(prefix + ".noise", "absent (no measurement noise)");
   }
-  // (absent: still air, without a note, as before the section existed)
+  // (absent: still air, without a note)
   readChecked(r, prefix, static_cast<TurbulenceParams*>(&c.turbulence));
-  // (absent: the B-747 defaults, checked, without a note: a run inside reports as before)
+  // (absent: the B-747 defaults, checked, without a note: a run inside them reports nothing)
   readChecked(r, prefix, static_cast<FlightEnvelopeParams*>(&c.envelope));
   // (absent: the defaults, without a note: a linear run reports what it reported before)
   readChecked(r, prefix, static_cast<JsbsimParams*>(&c.jsbsim));

@@ -14,7 +14,7 @@ ScenarioPlant::ScenarioPlant(const PlantConfig& plant, const Scenario& scenario,
       actuator_(plant.dynamics, plant.actuator, dt > 0.0 ? dt : 1.0),
       gust_(plant.turbulence, plant.airspeed, dt > 0.0 ? dt : 1.0),
       has_lambda_(!scenario.effectiveness.empty()),
-      envelope_(plant.envelope, plant.output_index, plant.engine != PlantEngineKind::kLinear),
+      envelope_(plant.envelope, plant.output_index, plantEngineRules(plant.engine).flight_outputs),
       noise_cfg_(plant.noise),
       noisy_(plant.noise.active()),
       noise_(plant.noise.seed) {

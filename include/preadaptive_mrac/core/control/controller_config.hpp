@@ -19,7 +19,7 @@ namespace preadaptive_mrac {
 class ParamReader;
 struct PlantConfig;
 
-/// \brief The controller's own design model (optional section `controller.model`, issue 36):
+/// \brief The controller's own design model (optional section `controller.model`):
 /// each part left out (size 0 here) is the plant's.
 struct DesignModel {
   Eigen::MatrixXd A;    ///< `controller.model.A` (empty: `plant.A`)

@@ -1,6 +1,6 @@
 #pragma once
 /// \file param_spec.hpp
-/// \brief What a parameter table row says to the C++ (params/*.yaml, issue 21): the generated
+/// \brief What a parameter table row says to the C++ (params/*.yaml): the generated
 /// headers (preadaptive_mrac/params/*_params.hpp) describe each scalar with a ParamSpec, and
 /// param_table.hpp reads and checks any generated struct with them.
 

@@ -1,8 +1,8 @@
 #pragma once
 /// \file actuator.hpp
 /// \brief The parts of the elevator actuator the plant simulator applies to a command, each
-/// testable alone: transport delay, first-order servo lag, and the chain that runs them in the
-/// order of issue 20 (delay, lag, then the position and rate limits of ActuatorLimits).
+/// testable alone: transport delay, first-order servo lag, and the chain that runs them in
+/// order (delay, lag, then the position and rate limits of ActuatorLimits).
 
 #include <cstdint>
 #include <vector>

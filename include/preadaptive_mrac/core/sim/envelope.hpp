@@ -1,6 +1,6 @@
 #pragma once
 /// \file envelope.hpp
-/// \brief The flight envelope the plant simulator checks on every step (issue 35): a state or
+/// \brief The flight envelope the plant simulator checks on every step: a state or
 /// command that is not finite, and angle of attack, pitch rate and elevator command beyond
 /// the bounds of plant.envelope. ScenarioPlant checks it, so the batch loop and the plant node
 /// (and any plant engine behind ScenarioPlant) see the same first exit.

@@ -77,7 +77,7 @@ struct PlantConfig : PlantParams {
   MeasurementNoise noise;       ///< added to what the plant publishes as measured
   ActuatorDynamics dynamics;    ///< servo delay and lag (the controller is not told)
   TurbulenceConfig turbulence;  ///< Dryden vertical gust (the controller is not told)
-  FlightEnvelope envelope;      ///< bounds the plant checks on every step (issue 35)
+  FlightEnvelope envelope;      ///< bounds the plant checks on every step
   JsbsimParams jsbsim;          ///< the JSBSim process and operating point (engine jsbsim)
 
   int n() const { return static_cast<int>(A.rows()); }

@@ -1,6 +1,6 @@
 #pragma once
 /// \file plant_conditions.hpp
-/// \brief One record of the plant's conditions (issue 34 item 3): what the plant simulator
+/// \brief One record of the plant's conditions: what the plant simulator
 /// did over a step beyond the paper's ideal plant, produced once by ScenarioPlant and read by
 /// every consumer from its table: the closed loop's Series, the CSV columns (io/setup.cpp),
 /// the ROS truth message's `conditions` array (plant node), and through their names the

@@ -3,9 +3,12 @@
 /// \brief What integrates the plant when it is not the linear model (plant.engine): the
 /// interface ScenarioPlant steps, and what such an engine reports beyond x.
 
+#include <functional>
 #include <memory>
+#include <stdexcept>
 
 #include "preadaptive_mrac/core/types.hpp"
+#include "preadaptive_mrac/params/plant_params.hpp"
 
 namespace preadaptive_mrac {
 
@@ -58,8 +61,35 @@ class PlantEngine {
   virtual void close() = 0;
 };
 
+/// \brief What an engine throws when it cannot start or step (JSBSim's JsbsimError is one).
+class PlantEngineError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief Starts and trims an engine for a plant configuration and sample time dt [s].
+using PlantEngineFactory = std::function<std::unique_ptr<PlantEngine>(const PlantConfig&, double)>;
+
+/// \brief Make `factory` the engine of plant.engine `kind` (one line in the engine's own library,
+/// run by a static initialiser: `const bool registered = registerPlantEngine(kind, factory);`).
+/// Returns true; a second registration of the same kind replaces the first.
+bool registerPlantEngine(PlantEngineKind kind, PlantEngineFactory factory);
+/// \brief Whether this program holds an engine for `kind` (always true for `linear`).
+bool hasPlantEngine(PlantEngineKind kind);
+
 /// \brief The engine plant.engine names, started and trimmed (nullptr for `linear`: the
-/// linear model is ScenarioPlant's own). Throws JsbsimError when JSBSim cannot run.
+/// linear model is ScenarioPlant's own). Throws PlantEngineError when the program was built
+/// without that engine, and whatever the engine throws when it cannot run.
 std::unique_ptr<PlantEngine> makePlantEngine(const PlantConfig& cfg, double dt);
+
+/// \brief The rules of plant.engine, in one place: what an engine kind has that the linear
+/// model has not.
+struct PlantEngineRules {
+  bool flight_outputs = false;   ///< FlightOutputs and the engine rows of the conditions
+  bool physical_faults = false;  ///< scenario.faults (CG, elevator effectiveness, damping)
+};
+PlantEngineRules plantEngineRules(PlantEngineKind kind);
+/// \brief Why scenario faults are refused on an engine without them (the start of the message).
+extern const char* const kFaultsNeedAerodynamics;
 
 }  // namespace preadaptive_mrac

@@ -72,7 +72,7 @@ struct FaultRanges {
 std::vector<Scenario::FaultSegment> regimeFaults(const Scenario& s, const FaultRanges& ranges,
                                                  std::uint64_t seed, int index);
 
-/// \brief A true plant that differs from the controller's model (issue 36, `--mismatch M`).
+/// \brief A true plant that differs from the controller's model (`preadapt_family --mismatch M`).
 struct PlantMismatch {
   Eigen::MatrixXd A;            ///< the true A
   Eigen::VectorXd B;            ///< the true B

@@ -3,8 +3,8 @@
 /// \brief The JSBSim aircraft's short-period model in the package's form x = [e_I, alpha, q],
 /// from the coupling itself (preadapt_trim).
 
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_plant.hpp"
 #include "preadaptive_mrac/core/types.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_plant.hpp"
 
 namespace preadaptive_mrac {
 

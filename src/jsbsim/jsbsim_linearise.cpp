@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_linearise.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_linearise.hpp"
 
 #include <cmath>
 #include <vector>

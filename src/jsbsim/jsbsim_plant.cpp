@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_plant.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_plant.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -235,9 +235,14 @@ void JsbsimPlant::step(double dt, const Vec& theta, double effect, double r, dou
   flight_ = {theta_, vt_ * kFt, h_ * kFt, gamma_};
 }
 
-std::unique_ptr<PlantEngine> makePlantEngine(const PlantConfig& cfg, double dt) {
-  if (cfg.engine != PlantEngineKind::kJsbsim) return nullptr;
-  return std::make_unique<JsbsimPlant>(cfg.jsbsim, dt, cfg.x0.size() > 0 ? cfg.x0[0] : 0.0);
-}
+namespace {
+
+// plant.engine jsbsim: this library's one registration line.
+[[maybe_unused]] const bool kRegistered =
+    registerPlantEngine(PlantEngineKind::kJsbsim, [](const PlantConfig& cfg, double dt) {
+      return std::make_unique<JsbsimPlant>(cfg.jsbsim, dt, cfg.x0.size() > 0 ? cfg.x0[0] : 0.0);
+    });
+
+}  // namespace
 
 }  // namespace preadaptive_mrac

@@ -10,12 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "preadaptive_mrac/core/sim/plant_engine.hpp"
+
 namespace preadaptive_mrac {
 
 /// \brief Anything that goes wrong with JSBSim: the message says what and how to fix it.
-class JsbsimError : public std::runtime_error {
+class JsbsimError : public PlantEngineError {
  public:
-  using std::runtime_error::runtime_error;
+  using PlantEngineError::PlantEngineError;
 };
 
 /// \brief How to start JSBSim.

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_process.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 
 #include <arpa/inet.h>
 #include <fcntl.h>

@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/params/plant_params.hpp"
 
 namespace preadaptive_mrac {

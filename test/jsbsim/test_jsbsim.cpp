@@ -17,9 +17,9 @@
 #include <string>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_linearise.hpp"
-#include "preadaptive_mrac/core/sim/jsbsim/jsbsim_plant.hpp"
 #include "preadaptive_mrac/core/sim/scenario_plant.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_linearise.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_plant.hpp"
 #include "test_helpers.hpp"
 
 namespace preadaptive_mrac {

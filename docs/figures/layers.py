@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""Draws docs/figures/layers.png, the package's layers (docs/design.md "Layers").
+
+    /usr/bin/python3 docs/figures/layers.py
+
+Each box is a library or folder, above what it uses; an arrow points from a user to what it
+uses, and the dashed one is the JSBSim engine registering itself with the core's registry.
+"""
+import os
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.patches import FancyBboxPatch  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+# name: (x, y, width, height, lines, colour)
+BOXES = {
+    'nodes': (
+        0.2,
+        8.6,
+        4.4,
+        1.1,
+        ['ROS nodes and nodelets', 'src/nodes, src/ros (roscpp)'],
+        '#f6d8ae',
+    ),
+    'tools': (
+        5.4,
+        8.6,
+        4.4,
+        1.1,
+        ['batch tools', 'src/tools (preadapt_sim, _family, ...)'],
+        '#f6d8ae',
+    ),
+    'io': (2.8, 6.8, 4.4, 1.1, ['io: YAML, weights, JSON/CSV', 'src/io (yaml-cpp)'], '#cfe3c4'),
+    'jsbsim': (7.6, 6.8, 2.2, 1.1, ['JSBSim engine', 'src/jsbsim (POSIX)'], '#cfe3c4'),
+    'loop': (0.2, 5.0, 9.6, 1.0, ['closed loop, margins (core/)'], '#c9d9ef'),
+    'control': (
+        0.2,
+        3.5,
+        6.2,
+        1.0,
+        ['controller, laws, strategies (core/control, core/robust)'],
+        '#c9d9ef',
+    ),
+    'sim': (6.8, 3.5, 3.0, 1.0, ['simulator + engine registry', '(core/sim)'], '#c9d9ef'),
+    'base': (
+        0.2,
+        2.0,
+        9.6,
+        1.0,
+        ['parameters and solvers (core/schema, core/solvers, types)'],
+        '#c9d9ef',
+    ),
+}
+ARROWS = [
+    ('nodes', 'io'),
+    ('tools', 'io'),
+    ('nodes', 'jsbsim'),
+    ('tools', 'jsbsim'),
+    ('io', 'loop'),
+    ('loop', 'control'),
+    ('loop', 'sim'),
+    ('control', 'base'),
+    ('sim', 'base'),
+]
+
+
+def anchor(name, top):
+    x, y, w, h = BOXES[name][:4]
+    return (x + w / 2, y + h if top else y)
+
+
+def main():
+    fig, ax = plt.subplots(figsize=(10, 8.4))
+    ax.set_xlim(0, 10)
+    ax.set_ylim(1.2, 10.2)
+    ax.axis('off')
+    for x, y, w, h, lines, colour in BOXES.values():
+        ax.add_patch(FancyBboxPatch((x, y), w, h, boxstyle='round,pad=0.04', fc=colour, ec='#333'))
+        ax.text(x + w / 2, y + h / 2, '\n'.join(lines), ha='center', va='center', fontsize=10)
+    for src, dst in ARROWS:
+        ax.annotate(
+            '',
+            xy=anchor(dst, True),
+            xytext=anchor(src, False),
+            arrowprops=dict(arrowstyle='->', color='#333', lw=1.2),
+        )
+    # The engine registers itself: the one arrow into the core from beside it. Still there: the
+    # controller reads the plant's configuration (its design model alone is next).
+    for text, xy, xytext, colour, style, align in (
+        ('registerPlantEngine', (9.3, 4.5), (8.7, 6.8), '#a33', '--', 'center'),
+        ('PlantConfig', (6.8, 4.0), (6.4, 4.0), '#888', ':', 'right'),
+    ):
+        ax.annotate(
+            text,
+            xy=xy,
+            xytext=xytext,
+            fontsize=9,
+            ha=align,
+            va='center',
+            color=colour,
+            arrowprops=dict(arrowstyle='->', color=colour, lw=1.2, ls=style),
+        )
+    ax.add_patch(
+        FancyBboxPatch(
+            (0.05, 1.8), 9.9, 4.35, boxstyle='round,pad=0.02', fc='none', ec='#36c', lw=1.5, ls=':'
+        )
+    )
+    ax.text(
+        0.15,
+        1.5,
+        'preadaptive_mrac_core: Eigen + STL only (no ROS, no process or socket code)',
+        fontsize=10,
+        color='#36c',
+    )
+    ax.set_title('preadaptive_mrac: layers (an arrow points at what its source uses)', fontsize=12)
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, 'layers.png'), dpi=110)
+
+
+if __name__ == '__main__':
+    main()
