@@ -33,7 +33,7 @@ scripts/reproduction_study scripts/robust_study scripts/regime_effectiveness_stu
 scripts/switch_reaction_study scripts/l1_reference_margin_study scripts/core_includes
 scripts/check_baseline_identical scripts/run_demo scripts/slurm/submit_sweep
 scripts/slurm/sweep_array.sbatch scripts/two_machines_env.sh scripts/test scripts/summarize_tests
-scripts/install_jsbsim jsbsim/tools/jsbsim_probe.py"
+scripts/install_jsbsim jsbsim/tools/jsbsim_probe.py scripts/code_sizes"
 DEV_TARGETS="bench_controller wakeup_floor bench_jsbsim bench_bag_writer"
 
 WS=$(mktemp -d /tmp/pmrac_catkin_lint.XXXXXX)

@@ -98,7 +98,7 @@ grep -q "<this repository>" <<<"$BLOCK" || fail "README's catkin block clones no
   # share a machine)
   lock=${PMRAC_ROSTEST_LOCK:+flock $PMRAC_ROSTEST_LOCK }
   echo "${lock}catkin_make run_tests_preadaptive_mrac_gtest_test_attention" \
-    "run_tests_preadaptive_mrac_rostest_test_ros_lockstep__mode_rac__shape_nodelet__name_suffix__envelope__test_plant_envelope.test"
+    "run_tests_preadaptive_mrac_rostest_lockstep__mode_rac__shape_nodelet__name_suffix__envelope__test_plant_envelope.test"
   echo 'catkin_test_results build/test_results/preadaptive_mrac'
 } >"$W/readme.sh"
 

@@ -61,6 +61,12 @@ EXPECT_RUNS = [
         'takes as its text (a name may look like a number: aircraft 737)',
     ),
     (
+        'scenario',
+        r'scenario\.name',
+        ('type',),
+        'the type mutation of a string is an integer, which a string key takes as its text',
+    ),
+    (
         'controller',
         r'controller\.mode',
         ALL,

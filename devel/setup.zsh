@@ -1,0 +1,1 @@
+/work/main/devel/.private/catkin_tools_prebuild/setup.zsh
