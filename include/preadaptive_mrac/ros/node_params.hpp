@@ -42,11 +42,9 @@ struct ControllerNodeParams : MracControllerNodeParams {
 
 /// \brief Everything bag_recorder_node reads from `~`: its rows of params/nodes.yaml
 /// (BagRecorderNodeParams, generated: ~output, ~progress_every, the split sizes, ...) and the
-/// lists ~topics and ~types, read by hand.
+/// lists ~topics and ~types, read by hand (and ~accept_from, read as the plant's and the
+/// controller's own: the nodes whose messages are written, [] = any publisher).
 struct BagRecorderParams : BagRecorderNodeParams {
-  /// ~accept_from: the nodes whose messages are written ([] = any publisher), as the plant's
-  /// and the controller's own ~accept_from.
-  std::vector<std::string> accept_from;
   /// Every optional key left out and filled with its default.
   std::vector<std::string> defaults_used;
 };
