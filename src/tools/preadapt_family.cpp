@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -99,6 +100,12 @@ FaultRanges parseFaults(const std::string& text) {
     }
   }
   return out;
+}
+
+std::string fmtG(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
 }
 
 struct Job {
@@ -391,6 +398,10 @@ int main(int argc, char** argv) {
           job.cfg.plant.noise.std = Eigen::VectorXd::Zero(spec.n);
           for (int i = 1; i < spec.n; ++i) job.cfg.plant.noise.std[i] = noise;
           job.cfg.plant.noise.seed = *seed * 1000003ULL + static_cast<std::uint64_t>(k);
+        } else if (job.cfg.plant.noise.active()) {
+          // Noise through --set plant.noise.std: a noise of its own per scenario as well, the
+          // same for every mode (paired comparison).
+          job.cfg.plant.noise.seed = *seed * 1000003ULL + static_cast<std::uint64_t>(k);
         }
         if (delay) job.cfg.plant.dynamics.delay = *delay;
         if (lag) job.cfg.plant.dynamics.time_constant = *lag;
@@ -423,7 +434,10 @@ int main(int argc, char** argv) {
           ClosedLoop loop(job.cfg.plant, job.cfg.scenario, &ctl);
           SimOptions opt;
           opt.dt = job.cfg.controller.sample_time;
+          const auto t0 = std::chrono::steady_clock::now();
           const SimResult res = loop.run(opt);
+          const double wall_s =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           for (const auto& w : res.metrics.windows) job.digest.peak.push_back(w.peak_abs_e);
           job.digest.iae = res.metrics.iae;
           job.digest.max_abs_u = res.metrics.max_abs_u;
@@ -454,11 +468,14 @@ int main(int argc, char** argv) {
             info.seed = job.cfg.controller.seed;
             info.dt = opt.dt;
             info.overrides = prepared.info.overrides;  // every run's --set (and fixed conditions)
+            info.wall_time_s = wall_s;
             job.json = cli::withEffort(runSummaryJson(info, ctl, res), res.metrics);
             const auto& d = drawn[static_cast<size_t>(job.scenario)];
-            if (!d.empty()) {
+            const bool set_noise = noise_t.empty() && job.cfg.plant.noise.active();
+            if (!d.empty() || set_noise) {
               nlohmann::ordered_json line = nlohmann::ordered_json::parse(job.json);
-              line["drawn_conditions"] = d;
+              if (!d.empty()) line["drawn_conditions"] = d;
+              if (set_noise) line["noise_seed"] = job.cfg.plant.noise.seed;  // --set noise only
               job.json = line.dump();
             }
           }
@@ -493,10 +510,21 @@ int main(int argc, char** argv) {
     size_t rep = 0;
     for (const auto& r : repeated)
       for (size_t w = 1; w < r.size(); ++w) rep += r[w];
+    // The noise as the runs have it: --noise, or else the plant's own noise.std (--set).
+    std::string noise_text = fmtG(noise) + " on alpha and q";
+    const MeasurementNoise& set_noise = prepared.cfg.plant.noise;
+    if (noise <= 0.0 && set_noise.active()) {
+      noise = set_noise.std.cwiseAbs().maxCoeff();
+      noise_text = "std [";
+      for (Eigen::Index i = 0; i < set_noise.std.size(); ++i)
+        noise_text += (i ? ", " : "") + fmtG(set_noise.std[i]);
+      noise_text += "] (plant.noise.std, a seed per scenario)";
+    }
     std::printf(
-        "family seed %llu: %d scenarios, %d regimes, %d segments, noise %g on alpha and q; %zu "
+        "family seed %llu: %d scenarios, %d regimes, %d segments, noise %s; %zu "
         "repeated-switch windows\n",
-        static_cast<unsigned long long>(*seed), count, spec.regimes, spec.segments, noise, rep);
+        static_cast<unsigned long long>(*seed), count, spec.regimes, spec.segments,
+        noise_text.c_str(), rep);
     if (!conditions.empty()) std::printf("plant conditions: %s\n", conditions.c_str());
     if (trim) {
       elevator_json["trim_fraction"] = trim_fraction;
