@@ -48,6 +48,7 @@ void RobustPreadaptation::sizeWindows() {
   Lv_ = samplesOf(rc_.verify_time, dt_);
   Lq_ = samplesOf(rc_.quiet_time, dt_);
   Ls_ = samplesOf(rc_.settle_time, dt_);
+  Lw_ = samplesOf(rc_.min_dwell, dt_);
   Ll_ = rc_.long_window > 0.0 ? std::max(Ld_, samplesOf(rc_.long_window, dt_)) : 0;
   cap_ = std::max({2 * Ld_, Lv_ + 2 * Ld_, 2 * Ll_}) + 2;
 }
@@ -181,14 +182,14 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   if (verifying_) return k_ >= next_decision_k_ ? Detection::kDecision : Detection::kNone;
   // No trigger before the noise level is known (kMinNoiseBlocks windows of data).
   if (noise_blocks_ < kMinNoiseBlocks) return Detection::kNone;
-  if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= Ld_) {
+  if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= std::max(Ld_, Lw_)) {
     long_trigger_ = false;
     return Detection::kOnset;
   }
   // The long window: a small mismatch that stays under the short window's noise-raised
   // threshold for long. Its noise is endpoint noise, Ld_ / Ll_ of the short window's; it sees
   // only data since the last reset (older data is judged against a theta_hat it did not have).
-  if (Ll_ > Ld_ && win_.count() >= Ll_ && k_ - last_trigger_k_ >= Ll_ &&
+  if (Ll_ > Ld_ && win_.count() >= Ll_ && k_ - last_trigger_k_ >= std::max(Ll_, Lw_) &&
       k_ - verify_end_k_ >= Ll_) {
     rho_long_ = (win_.yLong() - dotOf(theta_hat, win_.phiLong())) / (Ll_ * dt_);
     const double thr_long =

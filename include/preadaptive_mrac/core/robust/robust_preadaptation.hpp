@@ -103,6 +103,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double bb_;
   PreadaptNetwork* net_;
   int Ld_, Lc_, Lv_, Lq_, Ls_, Ll_, cap_;
+  int Lw_ = 0;                // min_dwell in samples: no onset sooner after the last one
   IdentificationWindow win_;  // the data: ring and long-window sums
   double rho_long_ = 0.0;
   bool long_trigger_ = false;
