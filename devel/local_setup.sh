@@ -1,1 +1,0 @@
-/work/main/devel/.private/catkin_tools_prebuild/local_setup.sh
