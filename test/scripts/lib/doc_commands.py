@@ -35,7 +35,7 @@ SKIPS = [
         'workspace from a clone',
     ),
     (
-        r'^(mkdir -p ~/catkin_ws|rosdep install|catkin_make|source devel/setup.bash)',
+        r'^(mkdir -p ~/catkin_ws|rosdep install|catkin_make|catkin build|source devel/setup.bash)',
         'a catkin workspace from a clone: test/scripts/catkin_workspace.sh builds one',
     ),
     (
