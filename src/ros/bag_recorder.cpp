@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <boost/make_shared.hpp>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -48,14 +49,21 @@ BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params
       progress_every_(params.progress_every) {
   base_ =
       params.output.empty() ? params.output_prefix + "_" + dateSuffix() + ".bag" : params.output;
-  // One missing folder is made (bag_dir); a path whose parent does not exist is refused, so a
-  // mistyped path does not grow a tree of folders anywhere the node may write.
+  // Under the user's home (the default bag_dir, ~/.ros/bags, on a fresh account) the missing
+  // folders are made; elsewhere only one missing folder is, so a mistyped path does not grow a
+  // tree of folders anywhere the node may write.
   const std::filesystem::path dir = std::filesystem::path(base_).parent_path();
+  const char* home = std::getenv("HOME");
+  const bool under_home =
+      home != nullptr && home[0] == '/' && base_.rfind(std::string(home) + "/", 0) == 0;
   if (!dir.empty() && !std::filesystem::is_directory(dir)) {
-    if (!dir.parent_path().empty() && !std::filesystem::is_directory(dir.parent_path()))
+    if (under_home)
+      std::filesystem::create_directories(dir);
+    else if (!dir.parent_path().empty() && !std::filesystem::is_directory(dir.parent_path()))
       throw std::runtime_error("the folder of " + base_ + " does not exist, nor does " +
                                dir.parent_path().string() + " (only one missing folder is made)");
-    std::filesystem::create_directory(dir);
+    else
+      std::filesystem::create_directory(dir);
   }
   single_ = base_;
   // Split series are named like rosbag record --split: <base>_0.bag, <base>_1.bag, ...

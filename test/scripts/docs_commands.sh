@@ -23,7 +23,9 @@ for page in "${PAGES[@]}"; do
   sed "s#^\# SKIPPED: $ROOT/#SKIPPED: #" "$TMP/skips"
   t0=$(date +%s)
   # A reader's shell: the system python3 first (dynparam's `env python3`), HOME in the scratch folder.
-  if (cd "$ROOT" && HOME=$TMP/home PATH=/usr/bin:$PATH bash "$TMP/page.sh") >"$TMP/out" 2>&1; then
+  # A page that hangs (a node waiting for a peer that died) fails after 10 min instead of holding
+  # the suite.
+  if (cd "$ROOT" && HOME=$TMP/home PATH=/usr/bin:$PATH timeout -k 10 600 bash "$TMP/page.sh") >"$TMP/out" 2>&1; then
     echo "ok: $rel: $(grep -c '^+ ' "$TMP/out") commands ran ($(($(date +%s) - t0)) s)"
   else
     echo "FAIL: $rel: $(grep '^FAILED: ' "$TMP/out" | tail -1)"
