@@ -27,7 +27,7 @@ bool recoverNonFinite(Controller* ctl, const Vec& x, StepOutput* out) {
   StepOutput base;
   base.e = std::isfinite(out->e) ? out->e : 0.0;
   base.e_dot = std::isfinite(out->e_dot) ? out->e_dot : 0.0;
-  base.u = ctl->safeCommand(x, StalePolicy::kBaseline);
+  base.u = ctl->safeCommand(x, StalePolicy::kBaselineHold);
   base.u_baseline = base.u_unsaturated = base.u;
   base.x_ref = Vec::Zero(x.size());  // the reference model restarts at the plant's trim
   base.theta_hat = ctl->thetaHat();
