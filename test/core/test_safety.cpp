@@ -26,6 +26,7 @@ TEST(ActuatorLimits, PlantAndControllerRespectThemAndAdaptationFreezes) {
   cfg.plant.actuator = {true, 0.3, 1.0};
   cfg.controller.mode = "pa_learn";
   cfg.controller.c_ed = 0.015;
+  cfg.controller.hedging = Hedging::kNone;  // freezing is the unhedged law's answer to the limit
   const SimResult res = test::simulate(cfg);
   const Series& s = res.series;
   int saturated = 0;

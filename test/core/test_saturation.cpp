@@ -100,18 +100,21 @@ TEST(Saturation, HedgedLawDoesNotAdaptOnTheLimitsError) {
   }
 }
 
-// pa_robust's square wave: with excitation_time it probes the elevator after an onset and is
-// off in steady flight (scenario 1, 30-44 s: at most twice rac's total variation); with 0 it
-// runs all the time (about ten times rac's).
-TEST(Saturation, DitherIsOffInSteadyFlight) {
+// pa_robust's square wave: by default (the package's config, and a config without the key) it
+// probes the elevator after an onset and is off in steady flight (scenario 1, 30-44 s: at most
+// twice rac's total variation); with excitation_time 0 it runs all the time (about ten times
+// rac's). Saturation-aware adaptation is on by default too.
+TEST(Saturation, DitherIsOffInSteadyFlightByDefault) {
+  EXPECT_GT(RobustConfig{}.excitation_time, 0.0);
+  EXPECT_EQ(ControllerConfig{}.hedging, Hedging::kPch);
   RunConfig cfg = test::packageConfig("1");
+  EXPECT_EQ(cfg.controller.hedging, Hedging::kPch);
   cfg.controller.mode = "rac";
   const double rac = totalVariation(test::simulate(cfg).series, 30.0, 44.0);
   cfg.controller.mode = "pa_robust";
+  const SimResult episodic = test::simulate(cfg);
   cfg.controller.robust.excitation_time = 0.0;
   const double always = totalVariation(test::simulate(cfg).series, 30.0, 44.0);
-  cfg.controller.robust.excitation_time = 3.0;
-  const SimResult episodic = test::simulate(cfg);
   EXPECT_GT(always, 5.0 * rac);
   EXPECT_LE(totalVariation(episodic.series, 30.0, 44.0), 2.0 * rac);
   // It still probes right after the switch at 20 s (onset within a few samples).
