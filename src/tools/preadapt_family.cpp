@@ -15,7 +15,7 @@
 #include <thread>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/sim/scenario_family.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
