@@ -1,7 +1,7 @@
 """The modes, from their one table params/modes.yaml (issue 21: no hand-kept mode lists).
 
-The C++ registry (src/core/controller/mode_registry.cpp) is built from the same rows through the header
-of `header_text()` (preadaptive_mrac/params/modes_params.hpp, written by params_codegen with
+The C++ registry (src/core/controller/mode_registry.cpp) is built from the same rows through the
+header of `header_text()` (preadaptive_mrac/params/modes_params.hpp, written by params_codegen with
 every table, as cmake/params.cmake and scripts/fuzz run it), so
 `preadapt_sim --list-modes`, the CLI, the nodes and this package name the same modes in the
 same order."""
