@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/control/controller.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"

@@ -5,7 +5,7 @@ prototype it: plain Python + numpy, one loop iteration per sample.
 It is the baseline of the "C++ vs prototype" row of docs/performance.md (bench/run_bench.sh
 times it against `preadapt_sim --scenario 1 --mode rac --json` on the same work), and a
 cross-check of the C++ engine: same equations (docs/spec.md), same dt = 1 ms, RK4 plant with theta
-held at theta(t_k + dt/2), and the same per-sample order as src/core/control/controller.cpp and
+held at theta(t_k + dt/2), and the same per-sample order as src/core/controller/controller.cpp and
 src/core/closed_loop.cpp:
 
     e_v = x - x_r; e = e_v[1]; dirty-derivative estimate of de/dt; attention (events only, rac

@@ -33,15 +33,15 @@ pmrac_library(preadaptive_mrac_core
   src/core/sim/plant_engine.cpp
   src/core/sim/scenario.cpp
   src/core/control/network.cpp
-  src/core/control/controller_config.cpp
+  src/core/controller/controller_config.cpp
   src/core/robust/robust_config.cpp
   src/core/control/event.cpp
   src/core/control/velocity_estimator.cpp
   src/core/control/attention.cpp
   src/core/control/sensitivity_tracker.cpp
   src/core/control/mrac_law.cpp
-  src/core/control/mode_registry.cpp
-  src/core/control/controller.cpp
+  src/core/controller/mode_registry.cpp
+  src/core/controller/controller.cpp
   src/core/control/l1_config.cpp
   src/core/control/l1_law.cpp
   src/core/control/paper_preadaptation.cpp
@@ -56,7 +56,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/margins.cpp
   src/core/sim/scenario_family.cpp
   src/core/control/input_guard.cpp
-  src/core/control/tunables.cpp)
+  src/core/controller/tunables.cpp)
 
 # The JSBSim engine (process, socket, plant, linearisation): POSIX + STL on top of the core. It
 # registers itself with the core's engine registry (plant_engine.hpp) from a static initialiser,

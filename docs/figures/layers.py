@@ -19,7 +19,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 BOXES = {
     'nodes': (
         0.2,
-        8.6,
+        10.0,
         4.4,
         1.1,
         ['ROS nodes and nodelets', 'src/nodes, src/ros (roscpp)'],
@@ -27,29 +27,38 @@ BOXES = {
     ),
     'tools': (
         5.4,
-        8.6,
+        10.0,
         4.4,
         1.1,
         ['batch tools', 'src/tools (preadapt_sim, _family, ...)'],
         '#f6d8ae',
     ),
-    'io': (2.8, 6.8, 4.4, 1.1, ['io: YAML, weights, JSON/CSV', 'src/io (yaml-cpp)'], '#cfe3c4'),
-    'jsbsim': (7.6, 6.8, 2.2, 1.1, ['JSBSim engine', 'src/jsbsim (POSIX)'], '#cfe3c4'),
-    'loop': (0.2, 5.0, 9.6, 1.0, ['closed loop, margins (core/)'], '#c9d9ef'),
-    'control': (
+    'io': (2.8, 8.4, 4.4, 1.1, ['io: YAML, weights, JSON/CSV', 'src/io (yaml-cpp)'], '#cfe3c4'),
+    'jsbsim': (7.6, 8.4, 2.2, 1.1, ['JSBSim engine', 'src/jsbsim (POSIX)'], '#cfe3c4'),
+    'loop': (0.2, 6.9, 9.6, 0.9, ['closed loop, margins (core/)'], '#c9d9ef'),
+    'controller': (
         0.2,
-        3.5,
+        5.5,
         6.2,
-        1.0,
-        ['controller, laws, strategies (core/control, core/robust)'],
+        0.9,
+        ['controller, its configuration, mode registry', '(core/controller)'],
         '#c9d9ef',
     ),
-    'sim': (6.8, 3.5, 3.0, 1.0, ['simulator + engine registry', '(core/sim)'], '#c9d9ef'),
+    'robust': (3.6, 4.1, 2.8, 0.9, ['pa_robust strategy', '(core/robust)'], '#c9d9ef'),
+    'control': (
+        0.2,
+        2.7,
+        6.2,
+        0.9,
+        ['laws, paper and oracle strategies, interfaces', '(core/control)'],
+        '#c9d9ef',
+    ),
+    'sim': (6.8, 2.7, 3.0, 3.7, ['simulator +', 'engine registry', '(core/sim)'], '#c9d9ef'),
     'base': (
         0.2,
-        2.0,
+        1.3,
         9.6,
-        1.0,
+        0.9,
         ['parameters and solvers (core/schema, core/solvers, types)'],
         '#c9d9ef',
     ),
@@ -60,8 +69,11 @@ ARROWS = [
     ('nodes', 'jsbsim'),
     ('tools', 'jsbsim'),
     ('io', 'loop'),
-    ('loop', 'control'),
+    ('loop', 'controller'),
     ('loop', 'sim'),
+    ('controller', 'robust'),
+    ('controller', 'control'),
+    ('robust', 'control'),
     ('control', 'base'),
     ('sim', 'base'),
 ]
@@ -73,9 +85,9 @@ def anchor(name, top):
 
 
 def main():
-    fig, ax = plt.subplots(figsize=(10, 8.4))
+    fig, ax = plt.subplots(figsize=(10, 9.8))
     ax.set_xlim(0, 10)
-    ax.set_ylim(1.2, 10.2)
+    ax.set_ylim(0.5, 11.4)
     ax.axis('off')
     for x, y, w, h, lines, colour in BOXES.values():
         ax.add_patch(FancyBboxPatch((x, y), w, h, boxstyle='round,pad=0.04', fc=colour, ec='#333'))
@@ -88,10 +100,10 @@ def main():
             arrowprops=dict(arrowstyle='->', color='#333', lw=1.2),
         )
     # The engine registers itself: the one arrow into the core from beside it. Still there: the
-    # controller reads the plant's configuration (its design model alone is next).
+    # controller's constructor reads the plant's configuration (its parts see the design model).
     for text, xy, xytext, colour, style, align in (
-        ('registerPlantEngine', (9.3, 4.5), (8.7, 6.8), '#a33', '--', 'center'),
-        ('PlantConfig', (6.8, 4.0), (6.4, 4.0), '#888', ':', 'right'),
+        ('registerPlantEngine', (9.3, 6.4), (8.7, 8.4), '#a33', '--', 'center'),
+        ('PlantConfig', (6.8, 5.95), (6.4, 5.95), '#888', ':', 'right'),
     ):
         ax.annotate(
             text,
@@ -105,12 +117,12 @@ def main():
         )
     ax.add_patch(
         FancyBboxPatch(
-            (0.05, 1.8), 9.9, 4.35, boxstyle='round,pad=0.02', fc='none', ec='#36c', lw=1.5, ls=':'
+            (0.05, 1.1), 9.9, 6.85, boxstyle='round,pad=0.02', fc='none', ec='#36c', lw=1.5, ls=':'
         )
     )
     ax.text(
         0.15,
-        1.5,
+        0.75,
         'preadaptive_mrac_core: Eigen + STL only (no ROS, no process or socket code)',
         fontsize=10,
         color='#36c',

@@ -10,7 +10,7 @@
 #include <memory>
 #include <sstream>
 
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 

@@ -1,7 +1,7 @@
 """The modes, from their one table params/modes.yaml (issue 21: no hand-kept mode lists).
 
-The C++ registry (src/core/control/mode_registry.cpp) is built from the same rows through the header
-of `header_text()` (preadaptive_mrac/params/modes_params.hpp, written by params_codegen with
+The C++ registry (src/core/controller/mode_registry.cpp) is built from the same rows through the
+header of `header_text()` (preadaptive_mrac/params/modes_params.hpp, written by params_codegen with
 every table, as cmake/params.cmake and scripts/fuzz run it), so
 `preadapt_sim --list-modes`, the CLI, the nodes and this package name the same modes in the
 same order."""
@@ -85,7 +85,7 @@ def header_text():
         'namespace preadaptive_mrac {\n'
         'namespace params {\n\n'
         '/// \\brief One row of params/modes.yaml: a mode is an adaptive law and a preadaptation\n'
-        '/// strategy, named as src/core/control/mode_registry.cpp registers them.\n'
+        '/// strategy, named as src/core/controller/mode_registry.cpp registers them.\n'
         'struct ModeRow {\n'
         '  const char* name;      ///< what `controller.mode` and --mode take\n'
         '  const char* doc;       ///< one line: what the mode does\n'

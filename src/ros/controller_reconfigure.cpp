@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/controller/tunables.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {

@@ -7,7 +7,7 @@
 #include <iostream>
 #include <memory>
 
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 

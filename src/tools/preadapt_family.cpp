@@ -16,7 +16,7 @@
 #include <thread>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/sim/scenario_family.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 
@@ -279,11 +279,10 @@ int main(int argc, char** argv) {
     spec.n = prepared.cfg.plant.n();
     if (!mismatch_t.empty() && (spec.n < 3 || prepared.cfg.plant.output_index != 1))
       throw cli::UsageError("--mismatch: needs the plant's x = [e_I, alpha, q] (output_index 1)");
-    if (faults && prepared.cfg.plant.engine != PlantEngineKind::kJsbsim)
-      throw cli::UsageError(
-          "--faults: physical faults (CG shift, elevator effectiveness, pitch damping) need "
-          "plant.engine jsbsim (add --set plant.engine=jsbsim); the linear model has no CG or "
-          "aerodynamics (use --effectiveness on it)");
+    if (faults && !plantEngineRules(prepared.cfg.plant.engine).physical_faults)
+      throw cli::UsageError(std::string("--faults: ") + kFaultsNeedAerodynamics +
+                            " (add --set plant.engine=jsbsim); the linear model has no CG or "
+                            "aerodynamics (use --effectiveness on it)");
     if (!out_dir.empty()) ::mkdir(out_dir.c_str(), 0755);
     // Feasible regimes: only with limits (off, the draws are as they always were).
     const ActuatorLimits& limits = prepared.cfg.plant.actuator;

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
 
 using namespace preadaptive_mrac;

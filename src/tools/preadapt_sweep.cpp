@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "cli_common.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 
 using namespace preadaptive_mrac;
 

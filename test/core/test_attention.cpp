@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 
 using namespace preadaptive_mrac;
 using R = Attention::Result;

@@ -12,9 +12,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "preadaptive_mrac/core/control/controller.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
-#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/tunables.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 #include "preadaptive_mrac/params/modes_params.hpp"

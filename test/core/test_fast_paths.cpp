@@ -9,7 +9,7 @@
 #include <string>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 #include "test_helpers.hpp"

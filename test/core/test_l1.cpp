@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/control/l1_law.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 #include "test_helpers.hpp"
 

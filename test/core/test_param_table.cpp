@@ -9,8 +9,8 @@
 #include <set>
 #include <string>
 
-#include "preadaptive_mrac/core/control/controller_config.hpp"
-#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/controller/controller_config.hpp"
+#include "preadaptive_mrac/core/controller/tunables.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "test_helpers.hpp"
 
 using namespace preadaptive_mrac;

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/control/controller.hpp"
-#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
+#include "preadaptive_mrac/core/controller/tunables.hpp"
 #include "test_helpers.hpp"
 
 namespace preadaptive_mrac {

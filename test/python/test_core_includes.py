@@ -1,8 +1,10 @@
 """scripts/core_includes on this tree: the core's includes run down only (docs/design.md)."""
 
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import unittest
 
 import pkg_path
@@ -19,6 +21,33 @@ class TestCoreIncludes(unittest.TestCase):
         self.assertIn('file cycles: none', out.stdout)
         self.assertNotRegex(out.stdout, r'(?m)^(sim|schema) +-> (control|robust)')
         self.assertNotRegex(out.stdout, r'(?m)-> jsbsim ')
+        self.assertNotRegex(out.stdout, r'(?m)^(control|robust) +-> controller ')
+        self.assertNotRegex(out.stdout, r'(?m)^control +-> robust ')
+
+    def run_on_copy_with(self, path, include):
+        """The script on a copy of the core where `path` gains `include`."""
+        with tempfile.TemporaryDirectory() as tmp:
+            for part in ('src/core', 'include/preadaptive_mrac/core'):
+                shutil.copytree(os.path.join(pkg_path.ROOT, part), os.path.join(tmp, part))
+            with open(os.path.join(tmp, path), 'a') as f:
+                f.write(f'#include "preadaptive_mrac/{include}"\n')
+            return subprocess.run(
+                [sys.executable, SCRIPT, '--root', tmp],
+                capture_output=True,
+                text=True,
+                timeout=60,
+                check=False,
+            )
+
+    def test_an_upward_include_fails(self):
+        for path, include in (
+            ('src/core/control/mrac_law.cpp', 'core/controller/controller_config.hpp'),
+            ('src/core/control/network.cpp', 'core/robust/regime_memory.hpp'),
+            ('src/core/robust/robust_config.cpp', 'core/controller/mode_registry.hpp'),
+        ):
+            out = self.run_on_copy_with(path, include)
+            self.assertEqual(out.returncode, 1, path + ' -> ' + include + '\n' + out.stdout)
+            self.assertIn('upward: ', out.stdout)
 
 
 if __name__ == '__main__':

@@ -103,8 +103,8 @@ def config_code_suffixes():
     """The dotted suffixes the config readers put after a section prefix (".lqr.Q", ".std")."""
     out = set()
     for rel in (
-        'src/core/control/controller.cpp',
-        'src/core/control/controller_config.cpp',
+        'src/core/controller/controller.cpp',
+        'src/core/controller/controller_config.cpp',
         'src/core/sim/plant.cpp',
         'src/core/sim/scenario.cpp',
     ):

@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 #include "preadaptive_mrac/io/setup.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 #include "preadaptive_mrac/ros/controller_reconfigure.hpp"

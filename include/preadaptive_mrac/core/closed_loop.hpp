@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/sim/scenario.hpp"
 #include "preadaptive_mrac/core/sim/scenario_plant.hpp"

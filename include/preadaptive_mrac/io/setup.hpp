@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/sim/scenario.hpp"

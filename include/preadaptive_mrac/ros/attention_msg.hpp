@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "preadaptive_mrac/AttentionEvent.h"
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {

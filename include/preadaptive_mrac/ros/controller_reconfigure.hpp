@@ -13,7 +13,7 @@
 
 #include "preadaptive_mrac/ControllerTuningConfig.h"
 #include "preadaptive_mrac/ParamChange.h"
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 
 namespace preadaptive_mrac {

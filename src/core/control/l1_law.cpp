@@ -2,10 +2,9 @@
 
 #include <cmath>
 
-#include "preadaptive_mrac/core/control/controller_config.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
-#include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
+#include "preadaptive_mrac/params/controller_params.hpp"
 
 namespace preadaptive_mrac {
 
@@ -110,10 +109,10 @@ void L1Law::advance(const Vec& x, double r, double u_ad_applied, bool adapt) {
 }
 
 std::unique_ptr<AdaptiveLaw> makeL1Law(const ModeContext& m) {
-  const ControllerConfig& c = *m.cfg;
-  const Vec b_ref = m.plant->B1r + c.k0 * m.plant->B;
-  return std::make_unique<L1Law>(*m.design, *m.B, b_ref, c.k0, c.l1, c.sample_time, c.theta_hat0,
-                                 m.plant->x0);
+  const ControllerParams& c = *m.cfg;
+  const Vec b_ref = *m.B1r + c.k0 * *m.B;
+  return std::make_unique<L1Law>(*m.design, *m.B, b_ref, c.k0, *m.l1, c.sample_time, c.theta_hat0,
+                                 *m.x0);
 }
 
 }  // namespace preadaptive_mrac

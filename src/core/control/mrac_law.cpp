@@ -2,13 +2,13 @@
 
 #include <algorithm>
 
-#include "preadaptive_mrac/core/control/controller_config.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
+#include "preadaptive_mrac/params/controller_params.hpp"
 
 namespace preadaptive_mrac {
 
-MracLaw::MracLaw(const ControllerConfig& cfg, const Vec& PB)
+MracLaw::MracLaw(const ControllerParams& cfg, const Vec& PB)
     : PB_(PB),
       theta_hat0_(cfg.theta_hat0),
       dt_(cfg.sample_time),
@@ -33,7 +33,7 @@ void MracLaw::advanceProjected() {
   clampToBall(&theta_hat_, theta_max_);  // the Euler step can overshoot the boundary layer by O(dt)
 }
 
-void MracLaw::setTunables(const ControllerConfig& cfg) {
+void MracLaw::setTunables(const ControllerParams& cfg) {
   gamma_ = cfg.gamma;
   projection_ = cfg.projection;
   theta_max_ = cfg.theta_max;

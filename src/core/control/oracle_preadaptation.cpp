@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/control/attention.hpp"
-#include "preadaptive_mrac/core/control/controller_config.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
+#include "preadaptive_mrac/params/controller_params.hpp"
 
 namespace preadaptive_mrac {
 

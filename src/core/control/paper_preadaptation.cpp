@@ -31,7 +31,7 @@ void PreadaptationStrategy::onDecision(const Sample& s, Vec* theta_hat, Event* e
   (void)ev;
 }
 
-PaperPreadaptation::PaperPreadaptation(Variant mode, const ControllerConfig& cfg,
+PaperPreadaptation::PaperPreadaptation(Variant mode, const ControllerParams& cfg,
                                        const ControllerDesign& design, const Vec& B, const Vec& PB,
                                        int out, PreadaptNetwork* net)
     : resets_(mode != Variant::kRac),
@@ -77,7 +77,7 @@ void PaperPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Event
   ev->learned = true;
 }
 
-bool PaperPreadaptation::setTunables(const ControllerConfig& cfg) {
+bool PaperPreadaptation::setTunables(const ControllerParams& cfg, const RobustParams& /*robust*/) {
   projection_ = cfg.projection;
   theta_max_ = cfg.theta_max;
   gamma_pa_ = cfg.gamma_pa;

@@ -17,21 +17,23 @@ int samplesOf(double seconds, double dt) {
 }
 }  // namespace
 
-RobustPreadaptation::RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant,
-                                         const Vec& K, PreadaptNetwork* net)
-    : rc_(cfg.robust),
+RobustPreadaptation::RobustPreadaptation(const ControllerParams& cfg, const RobustParams& robust,
+                                         const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
+                                         const Eigen::VectorXd& B1r, const Vec& K,
+                                         PreadaptNetwork* net)
+    : rc_(robust),
       K_(K),
       projection_(cfg.projection),
       theta_max_(cfg.theta_max),
       dt_(cfg.sample_time),
-      A_(plant.A),
-      B_(plant.B),
-      B1r_(plant.B1r),
-      bb_(plant.B.squaredNorm()),
+      A_(A),
+      B_(B),
+      B1r_(B1r),
+      bb_(B.squaredNorm()),
       net_(net),
-      loss_(plant.n()) {
+      loss_(static_cast<int>(B.size())) {
   sizeWindows();
-  const int n = plant.n();
+  const int n = static_cast<int>(B.size());
   win_.resize(cap_, Ll_, n);
   x_prev_.setZero(n);
   theta_keep_.setZero(n);
@@ -53,9 +55,9 @@ void RobustPreadaptation::sizeWindows() {
   cap_ = std::max({2 * Ld_, Lv_ + 2 * Ld_, 2 * Ll_}) + 2;
 }
 
-bool RobustPreadaptation::setTunables(const ControllerConfig& cfg) {
+bool RobustPreadaptation::setTunables(const ControllerParams& cfg, const RobustParams& robust) {
   const int ld = Ld_, lc = Lc_, lv = Lv_, ll = Ll_;
-  rc_ = cfg.robust;
+  rc_ = robust;
   projection_ = cfg.projection;
   theta_max_ = cfg.theta_max;
   sizeWindows();
@@ -448,8 +450,8 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
 }
 
 std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m) {
-  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.plant, Vec(m.design->K.transpose()),
-                                               m.net);
+  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.robust, *m.A, *m.B, *m.B1r,
+                                               Vec(m.design->K.transpose()), m.net);
 }
 
 }  // namespace preadaptive_mrac

@@ -7,8 +7,8 @@
 ///   1. a class implementing AdaptiveLaw in core/<name>_law.{hpp,cpp}, with its own config
 ///      section read and validated by itself;
 ///   2. a factory `std::unique_ptr<AdaptiveLaw> make<Name>Law(const ModeContext&)`;
-///   3. one row in kModes of src/core/control/mode_registry.cpp naming the mode, the law's factory
-///   and
+///   3. one row in kModes of src/core/controller/mode_registry.cpp naming the mode, the law's
+///   factory and
 ///      the strategy's factory. The mode's name then reaches the CLI, sweeps, families, nodes,
 ///      validation messages and the Python package (mode_registry.hpp).
 /// The controller keeps the baseline -K x, the reference model, the velocity estimator, the
@@ -20,7 +20,7 @@
 
 namespace preadaptive_mrac {
 
-struct ControllerConfig;
+struct ControllerParams;
 
 /// \brief What a law sees of one sample t_k.
 struct LawInput {
@@ -55,7 +55,7 @@ class AdaptiveLaw {
   /// the estimate over this sample (the elevator was at a limit).
   virtual void advance(const LawInput& in, bool adapt) = 0;
   /// \brief New tunables between two samples; `cfg` is the whole configuration with them.
-  virtual void setTunables(const ControllerConfig& cfg) { (void)cfg; }
+  virtual void setTunables(const ControllerParams& cfg) { (void)cfg; }
 };
 
 }  // namespace preadaptive_mrac

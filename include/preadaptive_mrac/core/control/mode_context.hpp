@@ -7,20 +7,27 @@
 
 namespace preadaptive_mrac {
 
-struct ControllerConfig;
 struct ControllerDesign;
-struct PlantConfig;
+struct ControllerParams;
+struct L1Config;
+struct RobustParams;
 class PreadaptNetwork;
 
-/// \brief What a law's or a strategy's factory gets: the configuration, the plant as the
-/// controller knows it, the design (K, P, A_r) and the network the controller owns.
+/// \brief What a law's or a strategy's factory gets: the controller's parameters and its
+/// parts', the design model (the plant as the controller knows it), the design (K, P, A_r) and
+/// the network the controller owns. Defined here, below the controller that fills it in, so
+/// the laws and strategies never include the controller's headers.
 struct ModeContext {
-  const ControllerConfig* cfg = nullptr;
-  const PlantConfig* plant = nullptr;
+  const ControllerParams* cfg = nullptr;  ///< `controller` (gains, sample time, projection)
+  const L1Config* l1 = nullptr;           ///< `controller.l1`
+  const RobustParams* robust = nullptr;   ///< `controller.robust`
   const ControllerDesign* design = nullptr;
-  const Vec* B = nullptr;   ///< plant input vector
-  const Vec* PB = nullptr;  ///< P B
-  int out = 1;              ///< index of the output alpha in x
+  const Eigen::MatrixXd* A = nullptr;    ///< design model's A
+  const Eigen::VectorXd* B1r = nullptr;  ///< design model's B1r
+  const Eigen::VectorXd* x0 = nullptr;   ///< initial state the controller assumes
+  const Vec* B = nullptr;                ///< plant input vector
+  const Vec* PB = nullptr;               ///< P B
+  int out = 1;                           ///< index of the output alpha in x
   PreadaptNetwork* net = nullptr;
 };
 

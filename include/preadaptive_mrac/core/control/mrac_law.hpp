@@ -15,7 +15,7 @@ struct ModeContext;
 class MracLaw final : public AdaptiveLaw {
  public:
   /// \brief PB = P B [-], theta_hat0 the initial estimate, dt [s]; gains from `cfg`.
-  MracLaw(const ControllerConfig& cfg, const Vec& PB);
+  MracLaw(const ControllerParams& cfg, const Vec& PB);
   std::unique_ptr<AdaptiveLaw> clone() const override { return std::make_unique<MracLaw>(*this); }
   void reset() override;
   const Vec& estimate() const override { return theta_hat_; }
@@ -33,7 +33,7 @@ class MracLaw final : public AdaptiveLaw {
       addScaled(dt_, upd_, &theta_hat_);
     }
   }
-  void setTunables(const ControllerConfig& cfg) override;
+  void setTunables(const ControllerParams& cfg) override;
 
  private:
   /// \brief The Euler step of upd_ projected onto Omega.

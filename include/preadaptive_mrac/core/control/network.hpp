@@ -6,10 +6,21 @@
 #include <cstdint>
 #include <vector>
 
-#include "preadaptive_mrac/core/robust/regime_memory.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
 namespace preadaptive_mrac {
+
+/// \brief One remembered regime (pa_robust's memory, robust/regime_memory.hpp keeps the
+/// list bounded): part of what is learned.
+struct RegimeEntry {
+  Vec theta;                   ///< estimate of theta in the regime
+  std::int64_t uses = 0;       ///< times it was stored, merged or recalled
+  std::int64_t last_used = 0;  ///< stamp of the last use (larger = more recent)
+  /// Loss of elevator effectiveness (1 - Lambda) fitted over the regime's visits, and its
+  /// information (1 / variance); 0 and 0 when never fitted.
+  double loss = 0.0;
+  double loss_info = 0.0;
+};
 
 /// \brief What the controller learns and carries from one run to the next, all the weights
 /// file holds (io/weights_io.hpp, version 3): the paper's network (its weights, how they were

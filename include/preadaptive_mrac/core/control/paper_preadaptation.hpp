@@ -4,12 +4,12 @@
 /// each onset), pa_learn / pa_learn_exact (and learn from each phase, eqs. perf-pap ..
 /// der-E-Vpa, with the approximate or the exact sensitivity).
 
-#include "preadaptive_mrac/core/control/controller_config.hpp"
 #include "preadaptive_mrac/core/control/event.hpp"
 #include "preadaptive_mrac/core/control/network.hpp"
 #include "preadaptive_mrac/core/control/preadaptation.hpp"
 #include "preadaptive_mrac/core/control/sensitivity_tracker.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
+#include "preadaptive_mrac/params/controller_params.hpp"
 
 namespace preadaptive_mrac {
 
@@ -18,7 +18,7 @@ class PaperPreadaptation : public PreadaptationStrategy {
  public:
   /// \brief Which of the paper's four modes.
   enum class Variant { kRac, kPa, kPaLearn, kPaLearnExact };
-  PaperPreadaptation(Variant variant, const ControllerConfig& cfg, const ControllerDesign& design,
+  PaperPreadaptation(Variant variant, const ControllerParams& cfg, const ControllerDesign& design,
                      const Vec& B, const Vec& PB, int out, PreadaptNetwork* net);
   bool needsTruth() const override { return exact_; }
   const char* truthUse() const override { return exact_ ? "the learning gradient" : ""; }
@@ -34,7 +34,7 @@ class PaperPreadaptation : public PreadaptationStrategy {
   double phaseCost() const override { return phase_cost_; }
   const Vec* phaseGradient() const override { return &sens_.grad(); }
   void startExternalPhase() override;
-  bool setTunables(const ControllerConfig& cfg) override;
+  bool setTunables(const ControllerParams& cfg, const RobustParams& robust) override;
 
  private:
   bool resets_, learning_, exact_;

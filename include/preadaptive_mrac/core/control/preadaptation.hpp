@@ -17,8 +17,8 @@ namespace preadaptive_mrac {
 
 class Attention;
 struct Event;
-struct ControllerConfig;
-struct PlantConfig;
+struct ControllerParams;
+struct RobustParams;
 struct ControllerDesign;
 class PreadaptNetwork;
 class RegimeMemory;
@@ -87,11 +87,12 @@ class PreadaptationStrategy {
   virtual double phaseCost() const { return 0.0; }
   /// \brief dE/dtheta_hat_I of the current phase (learning modes; empty otherwise).
   virtual const Vec* phaseGradient() const { return nullptr; }
-  /// \brief New tunables (Controller::setTunables) between two samples; `cfg` is the whole
-  /// configuration with them. Returns true when the strategy had to restart its detection
-  /// (the controller then ends an open phase).
-  virtual bool setTunables(const ControllerConfig& cfg) {
+  /// \brief New tunables (Controller::setTunables) between two samples; `cfg` the controller's
+  /// parameters and `robust` pa_robust's, with them. Returns true when the strategy had to restart
+  /// its detection (the controller then ends an open phase).
+  virtual bool setTunables(const ControllerParams& cfg, const RobustParams& robust) {
     (void)cfg;
+    (void)robust;
     return false;
   }
   /// \brief An excitation [rad] the controller adds to the command at sample time t (an

@@ -6,20 +6,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "preadaptive_mrac/core/control/network.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
 namespace preadaptive_mrac {
-
-/// \brief One remembered regime.
-struct RegimeEntry {
-  Vec theta;                   ///< estimate of theta in the regime
-  std::int64_t uses = 0;       ///< times it was stored, merged or recalled
-  std::int64_t last_used = 0;  ///< stamp of the last use (larger = more recent)
-  /// Loss of elevator effectiveness (1 - Lambda) fitted over the regime's visits, and its
-  /// information (1 / variance); 0 and 0 when never fitted.
-  double loss = 0.0;
-  double loss_info = 0.0;
-};
 
 /// \brief A view that keeps a list of regimes bounded: close entries merge, and when the list
 /// is full the least used entry (the oldest among equals) makes room.

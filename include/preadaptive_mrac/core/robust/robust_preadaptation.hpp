@@ -25,7 +25,6 @@
 #include <utility>
 #include <vector>
 
-#include "preadaptive_mrac/core/control/controller_config.hpp"
 #include "preadaptive_mrac/core/control/event.hpp"
 #include "preadaptive_mrac/core/control/network.hpp"
 #include "preadaptive_mrac/core/control/preadaptation.hpp"
@@ -33,15 +32,18 @@
 #include "preadaptive_mrac/core/robust/identification_window.hpp"
 #include "preadaptive_mrac/core/robust/loss_estimate.hpp"
 #include "preadaptive_mrac/core/robust/regime_memory.hpp"
-#include "preadaptive_mrac/core/sim/plant.hpp"
+#include "preadaptive_mrac/params/controller_params.hpp"
+#include "preadaptive_mrac/params/robust_params.hpp"
 
 namespace preadaptive_mrac {
 
 class RobustPreadaptation : public PreadaptationStrategy {
  public:
-  /// \brief `K` is the baseline gain (u_baseline = -K^T x).
-  RobustPreadaptation(const ControllerConfig& cfg, const PlantConfig& plant, const Vec& K,
-                      PreadaptNetwork* net);
+  /// \brief `A`, `B`, `B1r` the controller's design model; `K` is the baseline gain
+  /// (u_baseline = -K^T x).
+  RobustPreadaptation(const ControllerParams& cfg, const RobustParams& robust,
+                      const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
+                      const Eigen::VectorXd& B1r, const Vec& K, PreadaptNetwork* net);
   std::unique_ptr<PreadaptationStrategy> clone(PreadaptNetwork* net) const override {
     auto c = std::make_unique<RobustPreadaptation>(*this);
     c->net_ = net;
@@ -59,7 +61,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   bool refine(Vec* theta_hat) override;
   /// \brief Gains and thresholds take effect at once; a new detect_window, chunk or verify_time
   /// re-sizes the data window and restarts identification (returns true), as a reset does.
-  bool setTunables(const ControllerConfig& cfg) override;
+  bool setTunables(const ControllerParams& cfg, const RobustParams& robust) override;
   /// \brief The square wave +-`excitation` of period `excitation_period` at time t [rad]; with
   /// `excitation_time` > 0 only for that long after the last onset, else 0.
   double excitation(double t) const override;
@@ -94,7 +96,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// Window lengths in samples and the ring's capacity from rc_.
   void sizeWindows();
 
-  RobustConfig rc_;
+  RobustParams rc_;
   Vec K_;
   bool projection_;
   double theta_max_, dt_;

@@ -5,7 +5,7 @@
 ///
 /// The core never parses YAML or talks to a parameter server: adapters (io/yaml_params,
 /// ros/ros_params) turn those into a ParamValue, and the core's config readers (each
-/// part's `read`, e.g. ControllerConfig::read in control/controller_config.hpp) read from
+/// part's `read`, e.g. ControllerConfig::read in controller/controller_config.hpp) read from
 /// it. So there is one validation path for the batch CLI and the ROS nodes.
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
 
 #include <stdexcept>
 
@@ -63,7 +63,7 @@ const std::vector<ModeEntry>& modeRegistry() {
         throw std::logic_error(std::string("params/modes.yaml: mode '") + row.name + "' names " +
                                (law == nullptr ? "law '" : "strategy '") +
                                (law == nullptr ? row.law : row.strategy) +
-                               "', which src/core/control/mode_registry.cpp does not register");
+                               "', which src/core/controller/mode_registry.cpp does not register");
       v.push_back({row.name, row.doc, law, strategy, row.truth});
     }
     return v;

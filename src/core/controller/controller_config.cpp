@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/controller_config.hpp"
+#include "preadaptive_mrac/core/controller/controller_config.hpp"
 
 #include <cmath>
 

@@ -1,10 +1,10 @@
-#include "preadaptive_mrac/core/control/controller.hpp"
+#include "preadaptive_mrac/core/controller/controller.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "preadaptive_mrac/core/control/mode_registry.hpp"
-#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/controller/mode_registry.hpp"
+#include "preadaptive_mrac/core/controller/tunables.hpp"
 #include "preadaptive_mrac/core/robust/regime_memory.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/core/sim/plant.hpp"
@@ -59,7 +59,11 @@ Controller::Controller(const PlantConfig& model, const ControllerConfig& cfg,
                                 cfg.mode + "'");
   ModeContext ctx;
   ctx.cfg = &cfg_;
-  ctx.plant = &model;
+  ctx.l1 = &cfg_.l1;
+  ctx.robust = &cfg_.robust;
+  ctx.A = &model.A;
+  ctx.B1r = &model.B1r;
+  ctx.x0 = &model.x0;
   ctx.design = &design_;
   ctx.B = &B_;
   ctx.PB = &PB_;
@@ -161,7 +165,7 @@ void Controller::setTunables(const ControllerTunables& t) {
 void Controller::applyTunables(const ControllerTunables& t) {
   t.applyTo(&cfg_);
   attention_.setThresholds(cfg_.c_e, cfg_.c_ed, cfg_.confirm_samples, cfg_.hysteresis);
-  if (strategy_->setTunables(cfg_)) attention_.endPhase();
+  if (strategy_->setTunables(cfg_, cfg_.robust)) attention_.endPhase();
   law_->setTunables(cfg_);
 }
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "preadaptive_mrac/core/control/controller_config.hpp"
+#include "preadaptive_mrac/core/controller/controller_config.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 
 namespace preadaptive_mrac {

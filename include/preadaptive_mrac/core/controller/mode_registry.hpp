@@ -9,7 +9,7 @@
 ///
 /// A new mode is one row of params/modes.yaml naming a registered law and strategy; a new law
 /// (adaptive_law.hpp) or strategy (preadaptation.hpp) is one row of lawRegistry() or
-/// strategyRegistry() in src/core/control/mode_registry.cpp.
+/// strategyRegistry() in src/core/controller/mode_registry.cpp.
 
 #include <memory>
 #include <string>

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/tunables.hpp"
+#include "preadaptive_mrac/core/controller/tunables.hpp"
 
 #include <cmath>
 #include <type_traits>
