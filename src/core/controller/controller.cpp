@@ -1,5 +1,6 @@
 #include "preadaptive_mrac/core/controller/controller.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -266,8 +267,13 @@ StepOutput Controller::step(const StepInput& in) {
   // carry what the limit took off. Unhedged, it is frozen while the elevator is limited (the
   // plant does not get the u the law assumes).
   if (hedge_) {
-    li.limited = out.u - out.u_unsaturated;
-    lawAdvance(li, true);
+    // The hedge is at most the elevator's travel: a command beyond the aircraft's authority
+    // (an unstable plant past recovery) would otherwise drive the hedged model, the error and
+    // the estimate without bound; past it the law freezes, as unhedged.
+    const double travel = limits_.max_deflection;
+    const double deficit = out.u - out.u_unsaturated;
+    li.limited = std::max(-travel, std::min(travel, deficit));
+    lawAdvance(li, std::abs(deficit) <= travel);
     // The hedged reference model, RK4 with r and the limited part held over the sample.
     lazyProductPlus(Phi_r_, x_h_, Gam_r_, in.r, &x_h_);
     addScaled(li.limited, Gam_b_, &x_h_);
