@@ -118,6 +118,8 @@ if(CATKIN_ENABLE_TESTING)
   # The recorder killed with SIGKILL mid-recording (split series): scripts/reindex_bags
   # recovers the .bag.active it leaves; the bags hold every state up to near the kill.
   add_rostest(test/ros/recorder_crash.test DEPENDENCIES bag_recorder_node)
+  # The recorder's ~accept_from: a stray node's states on a recorded topic never reach the bag.
+  add_rostest(test/ros/recorder_guard.test DEPENDENCIES bag_recorder_node)
   # A lockstep plant's re-sent states are recorded once.
   add_rostest(test/ros/recorder_repeats.test DEPENDENCIES plant_sim_node bag_recorder_node)
   # Controller and plant SIGKILLed and restarted mid-run (realtime): trim, stale safe commands,

@@ -230,6 +230,7 @@ RunMonitorParams readRunMonitorParams(const ParamValue& tree, const KeyStyle& st
   readNodeRows(r, tree, &p, {});
   p.state_topics =
       readTopicList(r, tree, "state_topics", "a non-empty list of PlantState topic names");
+  p.accept_from = readCallerList(r, tree, "accept_from");
   if (!r.problems().empty()) throw ConfigError(r.problems());
   p.defaults_used = r.defaultsUsed();
   return p;

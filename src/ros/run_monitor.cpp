@@ -16,20 +16,28 @@ std::string doneTopic(const std::string& state_topic) {
   return state_topic + "/done";
 }
 
-RunMonitor::RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics) : ctx_(ctx) {
+RunMonitor::RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics,
+                       const std::vector<std::string>& accept_from)
+    : ctx_(ctx), guard_(makePublisherGuard(ctx, accept_from)) {
   ros::NodeHandle h(ctx.nh());
   watches_.resize(topics.size());
   for (size_t i = 0; i < topics.size(); ++i) {
     Watch* w = &watches_[i];
     w->topic = h.resolveName(topics[i]);
-    auto on_state = [w](const PlantState::ConstPtr& m) {
-      w->last_step = std::max(w->last_step, static_cast<std::uint64_t>(m->step));
-      w->total = m->total_steps;
-      if (m->total_steps > 0 && m->step + 1 >= m->total_steps) w->completed = true;
+    auto on_state = [this, w](const ros::MessageEvent<const PlantState>& event) {
+      if (!guard_.admitEvent(event, w->topic)) return;
+      const PlantState& m = *event.getConstMessage();
+      w->last_step = std::max(w->last_step, static_cast<std::uint64_t>(m.step));
+      w->total = m.total_steps;
+      if (m.total_steps > 0 && m.step + 1 >= m.total_steps && !w->completed) {
+        w->completed = true;
+        w->completed_at = ros::WallTime::now();
+      }
     };
-    w->sub = h.subscribe<PlantState>(topics[i], 100, on_state, ros::VoidConstPtr(),
+    const boost::function<void(const ros::MessageEvent<const PlantState>&)> callback(on_state);
+    w->sub = h.subscribe<PlantState>(topics[i], 100, callback, ros::VoidConstPtr(),
                                      ros::TransportHints().tcpNoDelay());
-    w->done_sub = h.subscribe<PlantState>(doneTopic(w->topic), 1, on_state);
+    w->done_sub = h.subscribe<PlantState>(doneTopic(w->topic), 1, callback);
   }
   // Polled on the same queue as the subscriptions, so the watches need no lock.
   timer_ =
@@ -41,6 +49,10 @@ void RunMonitor::check() {
   bool all_done = true;
   for (auto& w : watches_) {
     const bool has_pub = w.sub.getNumPublishers() > 0;
+    // Guarded, a finished plant is done once settled whoever else still publishes.
+    if (w.completed && guard_.enabled() &&
+        (ros::WallTime::now() - w.completed_at).toSec() >= kSettle)
+      continue;
     if (has_pub) {
       w.seen_publisher = true;
       w.gone_since = ros::WallTime();
@@ -74,7 +86,7 @@ void RunMonitor::check() {
 std::unique_ptr<RunMonitor> makeRunMonitor(const NodeContext& ctx) {
   RunMonitorParams p;
   if (!readNodeParams(ctx, readRunMonitorParams, &p)) return nullptr;
-  return std::make_unique<RunMonitor>(ctx, p.state_topics);
+  return std::make_unique<RunMonitor>(ctx, p.state_topics, p.accept_from);
 }
 
 void RunMonitor::finish() {

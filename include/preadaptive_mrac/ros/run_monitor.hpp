@@ -12,6 +12,7 @@
 
 #include "preadaptive_mrac/PlantState.h"
 #include "preadaptive_mrac/ros/node_context.hpp"
+#include "preadaptive_mrac/ros/publisher_guard.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
@@ -24,12 +25,16 @@ namespace ros1 {
 /// that left before its last step is a failure only once it has been gone for kLeaveGrace
 /// of wall time: the messages it sent before leaving may still wait in the queue (a loaded
 /// machine, a plant that ran a lockstep scenario in a fraction of a second).
+/// With ~accept_from only the listed publishers' states count; a watch whose plant has
+/// published its last step is then done after kSettle even while a stray node still
+/// publishes on the topic (its publisher would otherwise keep the run "running").
 class RunMonitor {
  public:
   /// \brief topics: PlantState topics, resolved in ctx.nh()'s namespace. Ends the node
   /// (ctx.end) with 0 when every plant finished, kExitRuntimeError when a plant left before
   /// its last step; checked every 10 ms on ctx.nh()'s queue.
-  RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics);
+  RunMonitor(const NodeContext& ctx, const std::vector<std::string>& topics,
+             const std::vector<std::string>& accept_from = {});
   /// \brief Stop watching.
   void finish();
 
@@ -41,10 +46,13 @@ class RunMonitor {
     std::string topic;
     bool seen_publisher = false, completed = false;
     std::uint64_t last_step = 0, total = 0;
-    ros::WallTime gone_since;  ///< zero while a publisher is there
+    ros::WallTime gone_since;    ///< zero while a publisher is there
+    ros::WallTime completed_at;  ///< when the last step was first seen
   };
   static constexpr double kLeaveGrace = 2.0;  ///< [s] wall
+  static constexpr double kSettle = 0.5;      ///< [s] wall, guarded: completed to done
   NodeContext ctx_;
+  PublisherGuard guard_;
   std::vector<Watch> watches_;
   ros::WallTimer timer_;
   bool done_ = false;
