@@ -532,6 +532,53 @@ TEST(FamilyTool, AircraftElevatorByDefaultWithEffortAndRejections) {
   EXPECT_NE(out.find("--trim-fraction: expected a fraction in (0, 1]"), std::string::npos) << out;
 }
 
+// With the oracle, each mode's revisits against it in the table, the JSON and runs.jsonl (the
+// oracle's own all at 1); without it "-" and null.
+TEST(FamilyTool, RevisitsAgainstTheOracleOrDash) {
+  const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_revisits";
+  std::string out;
+  ASSERT_EQ(
+      runTool("--seed 5 --count 2 --segments 6 --modes oracle --json --jobs 1 --out-dir " + dir,
+              &out),
+      0)
+      << out;
+  EXPECT_NE(out.find(" u/oracle | rev:n rev:med rev:wst rev<=1.2 || "), std::string::npos) << out;
+  const std::smatch header = [&] {
+    std::smatch m;
+    std::regex_search(out, m, std::regex("; (\\d+) repeated-switch windows"));
+    return m;
+  }();
+  ASSERT_FALSE(header.empty()) << out;
+  const std::string count = header[1];
+  EXPECT_NE(out.find("\"mode\":\"oracle\""), std::string::npos) << out;
+  EXPECT_NE(out.find("\"revisits\":{\"count\":" + count +
+                     ",\"median\":1.0,\"worst\":1.0,\"within_1_2\":1.0}"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("\"revisits\":{\"count\":" + count + ",\"median\":"), std::string::npos)
+      << out;  // rac's
+  std::ifstream runs(dir + "/runs.jsonl");
+  std::string line;
+  int n = 0;
+  while (std::getline(runs, line)) {
+    EXPECT_NE(line.find("\"revisits\":{\"windows\":["), std::string::npos) << line.substr(0, 200);
+    EXPECT_NE(line.find("\"ratio_to_oracle\":["), std::string::npos) << line.substr(0, 200);
+    ++n;
+  }
+  EXPECT_EQ(n, 4);  // rac and the oracle on 2 scenarios
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(
+      runTool("--seed 5 --count 2 --segments 6 --modes rac --json --jobs 1 --out-dir " + dir, &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("|     -       -       -        - || "), std::string::npos) << out;
+  EXPECT_NE(out.find("\"revisits\":null"), std::string::npos) << out;
+  runs = std::ifstream(dir + "/runs.jsonl");
+  ASSERT_TRUE(static_cast<bool>(std::getline(runs, line)));
+  EXPECT_NE(line.find("\"ratio_to_oracle\":null"), std::string::npos) << line.substr(0, 200);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   std::string out;
   ASSERT_EQ(runTool("--seed 3 --count 2 --modes pa_robust,oracle --json --jobs 2", &out), 0) << out;
