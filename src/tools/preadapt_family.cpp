@@ -30,8 +30,12 @@ const char* kAbout =
     "with the same seeded noise (STD [rad, rad/s] on alpha and q), and prints per mode, over the "
     "repeated-switch windows, the fraction better than rac (peak |e| ratio < 1), the fraction "
     "halved (<= 0.5), the median and worst ratio; per scenario the worst IAE ratio and max|u| "
-    "ratio to rac and to the oracle. --out-dir writes scenario_K.yaml and runs.jsonl (one "
-    "preadapt_sim --json line per run). --delay, --time-constant, --effectiveness and "
+    "ratio to rac and to the oracle. With the oracle among the modes, each mode's revisits (the "
+    "repeated-switch windows, back into a regime seen earlier in the scenario): their count, "
+    "median and worst peak ratio to the oracle in the same window, and the fraction within 1.2x "
+    "(rev:n, rev:med, rev:wst, rev<=1.2; without the oracle '-'). --out-dir writes "
+    "scenario_K.yaml and runs.jsonl (one preadapt_sim --json line per run, with its revisit "
+    "windows and their ratios to the oracle). --delay, --time-constant, --effectiveness and "
     "--turbulence run every mode under those plant conditions (docs/research/conditions.md); each "
     "takes "
     "one value or a range LO:HI, drawn uniformly per scenario from the family seed (the same "
@@ -106,6 +110,40 @@ std::string fmtG(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%g", v);
   return b;
+}
+
+// The JSON key of the fraction of revisits within the tolerance names it.
+static_assert(kRevisitTolerance == 1.2, "rename the JSON key within_1_2 with the tolerance");
+
+// A mode's revisit cells of the table (count, median, worst, fraction within the tolerance):
+// "-" without the oracle to compare with.
+std::string revisitCells(const std::optional<RevisitSummary>& r) {
+  char b[64];
+  if (r)
+    std::snprintf(b, sizeof b, "%5d %7.3f %7.3f %7.1f%%", r->count, r->median, r->worst,
+                  100.0 * r->within);
+  else
+    std::snprintf(b, sizeof b, "%5s %7s %7s %8s", "-", "-", "-", "-");
+  return b;
+}
+
+// runs.jsonl's "revisits" of one run: its revisit windows and, with the oracle's run of the same
+// scenario, each one's peak ratio to the oracle's (null without; JSON writes inf, a lost run's
+// window, as null too).
+nlohmann::ordered_json revisitJson(const std::vector<bool>& repeated, const RunDigest& run,
+                                   const RunDigest* oracle) {
+  nlohmann::ordered_json windows = nlohmann::ordered_json::array();
+  nlohmann::ordered_json ratios = oracle ? nlohmann::ordered_json::array() : nullptr;
+  if (oracle) {
+    for (const RevisitRatio& r : revisitRatios(repeated, *oracle, run)) {
+      windows.push_back(r.window);
+      ratios.push_back(r.ratio);
+    }
+  } else {
+    for (size_t w = 1; w < repeated.size() && w < run.peak.size(); ++w)
+      if (repeated[w]) windows.push_back(w);
+  }
+  return {{"windows", windows}, {"ratio_to_oracle", ratios}};
 }
 
 struct Job {
@@ -492,11 +530,6 @@ int main(int argc, char** argv) {
       std::cerr << "preadapt_family: error: " << failure << std::endl;
       return 1;
     }
-    if (!out_dir.empty()) {
-      std::ofstream f(out_dir + "/runs.jsonl");
-      for (const auto& job : list) f << job.json << '\n';
-    }
-
     auto digests = [&](const std::string& m) {
       std::vector<RunDigest> d;
       for (const auto& job : list)
@@ -506,6 +539,15 @@ int main(int argc, char** argv) {
     const auto rac = digests("rac");
     const bool have_oracle = std::find(modes.begin(), modes.end(), "oracle") != modes.end();
     const auto oracle = have_oracle ? digests("oracle") : std::vector<RunDigest>{};
+    if (!out_dir.empty()) {
+      std::ofstream f(out_dir + "/runs.jsonl");
+      for (const auto& job : list) {
+        const auto k = static_cast<size_t>(job.scenario);
+        nlohmann::ordered_json line = nlohmann::ordered_json::parse(job.json);
+        line["revisits"] = revisitJson(repeated[k], job.digest, have_oracle ? &oracle[k] : nullptr);
+        f << line.dump() << '\n';
+      }
+    }
     size_t rep = 0;
     for (const auto& r : repeated)
       for (size_t w = 1; w < r.size(); ++w) rep += r[w];
@@ -546,22 +588,29 @@ int main(int argc, char** argv) {
     // Effort beside the ratios, after " || ": applied elevator's peak |u| (median, worst) [rad],
     // time at the travel and rate limits (median) [s], steady-flight total variation (median)
     // [rad], fraction of a switch window at a limit (median, worst).
+    // The revisits, after u/oracle: count, median and worst peak ratio to the oracle, the
+    // fraction within kRevisitTolerance.
+    const std::string within_head = "rev<=" + fmtG(kRevisitTolerance);
     std::printf(
-        "%-15s %7s %7s %7s %7s | %8s %7s | %8s %5s | %8s %8s || %6s %6s %7s %7s %7s %6s %6s\n",
+        "%-15s %7s %7s %7s %7s | %8s %7s | %8s %5s | %8s %8s | %5s %7s %7s %8s || %6s %6s %7s "
+        "%7s %7s %6s %6s\n",
         "mode", "better", "halved", "median", "worst", "all:med", "worst", "IAE:wst", ">5%",
-        "u/rac", "u/oracle", "|u|med", "|u|wst", "trav[s]", "rate[s]", "TV:med", "lim:md",
-        "lim:wst");
+        "u/rac", "u/oracle", "rev:n", "rev:med", "rev:wst", within_head.c_str(), "|u|med", "|u|wst",
+        "trav[s]", "rate[s]", "TV:med", "lim:md", "lim:wst");
     for (const auto& m : modes) {
       const FamilySummary s =
           summarizeFamily(repeated, rac, digests(m), have_oracle ? &oracle : nullptr);
       const EffortSummary ef = summarizeEffort(digests(m));
+      std::optional<RevisitSummary> rev;
+      if (have_oracle) rev = summarizeRevisits(repeated, oracle, digests(m));
       std::printf(
-          "%-15s %6.1f%% %6.1f%% %7.3f %7.3f | %8.3f %7.3f | %8.3f %5d | %8.3f %8.3f || %6.3f "
-          "%6.3f %7.2f %7.2f %7.4f %5.1f%% %5.1f%%\n",
+          "%-15s %6.1f%% %6.1f%% %7.3f %7.3f | %8.3f %7.3f | %8.3f %5d | %8.3f %8.3f | %s || "
+          "%6.3f %6.3f %7.2f %7.2f %7.4f %5.1f%% %5.1f%%\n",
           m.c_str(), 100.0 * s.frac_better, 100.0 * s.frac_halved, s.median_ratio, s.worst_ratio,
           s.all_median_ratio, s.all_worst_ratio, s.worst_iae_ratio, s.iae_over, s.worst_u_rac,
-          s.worst_u_oracle, ef.median_peak_u, ef.worst_peak_u, ef.median_travel, ef.median_rate,
-          ef.median_tv, 100.0 * ef.median_window_limit, 100.0 * ef.worst_window_limit);
+          s.worst_u_oracle, revisitCells(rev).c_str(), ef.median_peak_u, ef.worst_peak_u,
+          ef.median_travel, ef.median_rate, ef.median_tv, 100.0 * ef.median_window_limit,
+          100.0 * ef.worst_window_limit);
       if (s.lost_runs > 0) std::printf("%-15s %d runs lost (diverged)\n", m.c_str(), s.lost_runs);
       nlohmann::ordered_json exits = nlohmann::ordered_json::array();
       for (const auto& job : list) {
@@ -593,6 +642,13 @@ int main(int argc, char** argv) {
         o["worst_u_rac"] = s.worst_u_rac;
         o["worst_u_oracle"] = s.worst_u_oracle;
         o["ratios"] = s.ratios;
+        if (rev)
+          o["revisits"] = {{"count", rev->count},
+                           {"median", rev->median},
+                           {"worst", rev->worst},
+                           {"within_1_2", rev->within}};
+        else
+          o["revisits"] = nullptr;
         if (s.lost_runs > 0) o["lost_runs"] = s.lost_runs;
         if (!exits.empty()) o["envelope_exits"] = exits;  // absent: every run stayed inside
         o["effort"] = {{"median_peak_abs_u", ef.median_peak_u},

@@ -225,6 +225,76 @@ TEST(Family, SummaryCountsOnlyRepeatedWindows) {
   EXPECT_DOUBLE_EQ(s.worst_u_oracle, 1.2);
 }
 
+namespace {
+// A scenario of hand-made segments, one per theta, 10 s each.
+Scenario segmentsOf(const std::vector<Eigen::Vector3d>& thetas) {
+  Scenario s;
+  for (size_t i = 0; i < thetas.size(); ++i)
+    s.theta.push_back({10.0 * static_cast<double>(i + 1), thetas[i]});
+  return s;
+}
+}  // namespace
+
+// Revisits are the windows switching back to a theta seen earlier in the scenario (the first
+// segment's too); each is the mode's peak over the oracle's in that window. Every other window
+// has a ratio far above any revisit's, so counting one of them moves the worst and the median.
+TEST(Family, RevisitsComparePeaksWithTheOracleInTheSameWindow) {
+  const Eigen::Vector3d first = Eigen::Vector3d::Constant(0.1), a(1, 2, 3), b(4, 5, 6), c(2, 2, 1),
+                        d(7, 1, 1);
+  const std::vector<Scenario> family = {segmentsOf({first, a, b, a, b}),
+                                        segmentsOf({first, c, first, d, c})};
+  std::vector<std::vector<bool>> repeated;
+  for (const auto& s : family) repeated.push_back(repeatedWindows(s));
+  std::vector<RunDigest> oracle(2), mode(2);
+  oracle[0].peak = {1.0, 2.0, 2.0, 0.5, 0.4};
+  oracle[1].peak = {1.0, 1.0, 0.2, 1.0, 0.1};
+  mode[0].peak = {5.0, 9.0, 9.0, 0.55, 0.6};  // revisits 3 and 4: 1.1 and 1.5
+  mode[1].peak = {1.0, 0.1, 0.2, 7.0, 0.13};  // revisits 2 and 4: 1.0 and 1.3
+  const std::vector<RevisitRatio> one = revisitRatios(repeated[1], oracle[1], mode[1]);
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_EQ(one[0].window, 2);  // back to the first segment's theta
+  EXPECT_DOUBLE_EQ(one[0].ratio, 1.0);
+  EXPECT_EQ(one[1].window, 4);
+  EXPECT_DOUBLE_EQ(one[1].ratio, 1.3);
+  const RevisitSummary s = summarizeRevisits(repeated, oracle, mode);
+  EXPECT_EQ(s.count, 4);
+  ASSERT_EQ(s.ratios.size(), 4u);
+  EXPECT_DOUBLE_EQ(s.ratios[0], 1.1);
+  EXPECT_DOUBLE_EQ(s.ratios[1], 1.5);
+  EXPECT_DOUBLE_EQ(s.median, 1.2);  // (1.1 + 1.3) / 2
+  EXPECT_DOUBLE_EQ(s.worst, 1.5);
+  EXPECT_DOUBLE_EQ(s.within, 0.5);  // 1.0 and 1.1 within 1.2x, 1.3 and 1.5 not
+  // The oracle against itself: every revisit at 1.
+  const RevisitSummary self = summarizeRevisits(repeated, oracle, oracle);
+  EXPECT_EQ(self.count, 4);
+  EXPECT_DOUBLE_EQ(self.worst, 1.0);
+  EXPECT_DOUBLE_EQ(self.within, 1.0);
+  // No revisit at all: nothing compared.
+  const RevisitSummary none = summarizeRevisits({{false, false, false}}, oracle, mode);
+  EXPECT_EQ(none.count, 0);
+  EXPECT_EQ(none.within, 0.0);
+}
+
+// A run lost in window 3 (IAE NaN, the peaks after it 0): its revisits from there are the worst;
+// the oracle lost alone leaves a mode still flying at 0.
+TEST(Family, ALostRunsRevisitsCountAsWorst) {
+  const std::vector<bool> repeated = {false, false, true, true, true};
+  RunDigest oracle, lost;
+  oracle.peak = {1.0, 1.0, 0.5, 0.5, 0.5};
+  lost.peak = {1.0, 1.0, 0.5, 8e301, 0.0};
+  lost.iae = std::nan("");
+  const std::vector<RevisitRatio> q = revisitRatios(repeated, oracle, lost);
+  ASSERT_EQ(q.size(), 3u);
+  EXPECT_DOUBLE_EQ(q[0].ratio, 1.0);
+  EXPECT_TRUE(std::isinf(q[1].ratio));
+  EXPECT_TRUE(std::isinf(q[2].ratio));
+  const std::vector<RevisitRatio> back = revisitRatios(repeated, lost, oracle);
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_DOUBLE_EQ(back[0].ratio, 1.0);
+  EXPECT_EQ(back[1].ratio, 0.0);
+  EXPECT_EQ(back[2].ratio, 0.0);
+}
+
 // A feasible regime: at the reference model's steady state, the trim deflection holds the
 // plant still (alpha = r, q and alpha constant); the generator with the check keeps only regimes
 // within the limit, counts the ones it threw away, and without it draws as before.
@@ -460,6 +530,53 @@ TEST(FamilyTool, AircraftElevatorByDefaultWithEffortAndRejections) {
   EXPECT_NE(out.find("--elevator: expected b747, ideal or the path"), std::string::npos) << out;
   EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --trim-fraction 0", &out), 2);
   EXPECT_NE(out.find("--trim-fraction: expected a fraction in (0, 1]"), std::string::npos) << out;
+}
+
+// With the oracle, each mode's revisits against it in the table, the JSON and runs.jsonl (the
+// oracle's own all at 1); without it "-" and null.
+TEST(FamilyTool, RevisitsAgainstTheOracleOrDash) {
+  const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_revisits";
+  std::string out;
+  ASSERT_EQ(
+      runTool("--seed 5 --count 2 --segments 6 --modes oracle --json --jobs 1 --out-dir " + dir,
+              &out),
+      0)
+      << out;
+  EXPECT_NE(out.find(" u/oracle | rev:n rev:med rev:wst rev<=1.2 || "), std::string::npos) << out;
+  const std::smatch header = [&] {
+    std::smatch m;
+    std::regex_search(out, m, std::regex("; (\\d+) repeated-switch windows"));
+    return m;
+  }();
+  ASSERT_FALSE(header.empty()) << out;
+  const std::string count = header[1];
+  EXPECT_NE(out.find("\"mode\":\"oracle\""), std::string::npos) << out;
+  EXPECT_NE(out.find("\"revisits\":{\"count\":" + count +
+                     ",\"median\":1.0,\"worst\":1.0,\"within_1_2\":1.0}"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("\"revisits\":{\"count\":" + count + ",\"median\":"), std::string::npos)
+      << out;  // rac's
+  std::ifstream runs(dir + "/runs.jsonl");
+  std::string line;
+  int n = 0;
+  while (std::getline(runs, line)) {
+    EXPECT_NE(line.find("\"revisits\":{\"windows\":["), std::string::npos) << line.substr(0, 200);
+    EXPECT_NE(line.find("\"ratio_to_oracle\":["), std::string::npos) << line.substr(0, 200);
+    ++n;
+  }
+  EXPECT_EQ(n, 4);  // rac and the oracle on 2 scenarios
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(
+      runTool("--seed 5 --count 2 --segments 6 --modes rac --json --jobs 1 --out-dir " + dir, &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("|     -       -       -        - || "), std::string::npos) << out;
+  EXPECT_NE(out.find("\"revisits\":null"), std::string::npos) << out;
+  runs = std::ifstream(dir + "/runs.jsonl");
+  ASSERT_TRUE(static_cast<bool>(std::getline(runs, line)));
+  EXPECT_NE(line.find("\"ratio_to_oracle\":null"), std::string::npos) << line.substr(0, 200);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {

@@ -205,6 +205,21 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 double ratio(double a, double b) { return b > 0.0 ? a / b : (a > 0.0 ? INFINITY : 1.0); }
+
+// The window a lost run (IAE not finite) blew up in: its windows after it hold peaks of 0 (|e|
+// NaN compares false), so the blow-up is the last window whose peak is NaN or a new largest.
+// A run that was not lost: the number of its windows (no window is lost).
+size_t blowUpWindow(const RunDigest& run) {
+  size_t blow_up = run.peak.size();
+  if (std::isfinite(run.iae)) return blow_up;
+  double top = -1.0;
+  for (size_t w = 0; w < run.peak.size(); ++w)
+    if (!(run.peak[w] <= top)) {  // NaN or larger
+      top = std::isfinite(run.peak[w]) ? run.peak[w] : HUGE_VAL;
+      blow_up = w;
+    }
+  return blow_up;
+}
 }  // namespace
 
 double TrimCheck::trim(const Eigen::VectorXd& theta) const {
@@ -262,16 +277,8 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
     // A run lost to divergence (IAE not finite): its windows after the blow-up hold peaks of 0
     // (|e| NaN compares false), which must count as the worst, not as better than rac.
     const bool lost = !std::isfinite(mode[k].iae);
-    size_t blow_up = mode[k].peak.size();
-    if (lost) {
-      s.lost_runs += 1;
-      double top = -1.0;
-      for (size_t w = 0; w < mode[k].peak.size(); ++w)
-        if (!(mode[k].peak[w] <= top)) {  // NaN or larger
-          top = std::isfinite(mode[k].peak[w]) ? mode[k].peak[w] : HUGE_VAL;
-          blow_up = w;
-        }
-    }
+    const size_t blow_up = blowUpWindow(mode[k]);
+    s.lost_runs += lost;
     for (size_t w = 1; w < mode[k].peak.size() && w < rac[k].peak.size(); ++w) {
       const double q = w >= blow_up ? HUGE_VAL : ratio(mode[k].peak[w], rac[k].peak[w]);
       all.push_back(q);
@@ -300,6 +307,39 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
   if (!all.empty()) {
     s.all_median_ratio = median(all);
     s.all_worst_ratio = *std::max_element(all.begin(), all.end());
+  }
+  return s;
+}
+
+std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const RunDigest& oracle,
+                                        const RunDigest& mode) {
+  std::vector<RevisitRatio> out;
+  const size_t mode_lost = blowUpWindow(mode), oracle_lost = blowUpWindow(oracle);
+  for (size_t w = 1; w < repeated.size() && w < mode.peak.size() && w < oracle.peak.size(); ++w) {
+    if (!repeated[w]) continue;
+    const double q = w >= mode_lost     ? HUGE_VAL
+                     : w >= oracle_lost ? 0.0
+                                        : ratio(mode.peak[w], oracle.peak[w]);
+    out.push_back({static_cast<int>(w), q});
+  }
+  return out;
+}
+
+RevisitSummary summarizeRevisits(const std::vector<std::vector<bool>>& repeated,
+                                 const std::vector<RunDigest>& oracle,
+                                 const std::vector<RunDigest>& mode) {
+  RevisitSummary s;
+  int within = 0;
+  for (size_t k = 0; k < repeated.size() && k < oracle.size() && k < mode.size(); ++k)
+    for (const RevisitRatio& r : revisitRatios(repeated[k], oracle[k], mode[k])) {
+      s.ratios.push_back(r.ratio);
+      within += r.ratio <= kRevisitTolerance;
+    }
+  s.count = static_cast<int>(s.ratios.size());
+  if (s.count > 0) {
+    s.median = median(s.ratios);
+    s.worst = *std::max_element(s.ratios.begin(), s.ratios.end());
+    s.within = static_cast<double>(within) / s.count;
   }
   return s;
 }

@@ -160,4 +160,37 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
                               const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,
                               const std::vector<RunDigest>* oracle);
 
+/// \brief The revisit criterion: a mode's peak |e| in a window that switches back into a known
+/// regime within this factor of the oracle's peak in the same window (the oracle is told the true
+/// theta at each switch, so it bounds what a recall of the regime can achieve).
+constexpr double kRevisitTolerance = 1.2;
+
+/// \brief A mode's peak |e| over the oracle's in one revisit window (a repeated window,
+/// repeatedWindows: its theta equals that of an earlier segment of the scenario).
+struct RevisitRatio {
+  int window = 0;      ///< the window (0 = the first segment)
+  double ratio = 0.0;  ///< peak |e| of the mode / peak |e| of the oracle
+};
+
+/// \brief Every revisit window of one scenario, in order, with its peak ratio of `mode` to
+/// `oracle`. From the window a lost run (IAE not finite, as in summarizeFamily) blew up in, a
+/// lost mode counts inf (the worst), a lost oracle with the mode still flying 0.
+std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const RunDigest& oracle,
+                                        const RunDigest& mode);
+
+/// \brief One mode against the oracle over the revisit windows of a family.
+struct RevisitSummary {
+  int count = 0;               ///< revisit windows compared
+  double median = 0.0;         ///< median peak ratio to the oracle
+  double worst = 0.0;          ///< largest peak ratio to the oracle
+  double within = 0.0;         ///< fraction with ratio <= kRevisitTolerance
+  std::vector<double> ratios;  ///< every revisit ratio, scenario by scenario (for figures)
+};
+
+/// \brief revisitRatios of every scenario of the family, summarized (count 0, the rest 0, when
+/// there is no revisit).
+RevisitSummary summarizeRevisits(const std::vector<std::vector<bool>>& repeated,
+                                 const std::vector<RunDigest>& oracle,
+                                 const std::vector<RunDigest>& mode);
+
 }  // namespace preadaptive_mrac
