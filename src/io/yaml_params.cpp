@@ -22,21 +22,21 @@ ParamValue scalarToParam(const YAML::Node& n) {
   if (s == "false" || s == "False" || s == "FALSE") return ParamValue::makeBool(false);
   if (s == "~" || s == "null" || s == "Null" || s == "NULL" || s.empty()) return ParamValue();
   if (s == ".nan" || s == ".NaN" || s == ".NAN" || s == "nan" || s == "NaN")
-    return ParamValue::makeDouble(std::numeric_limits<double>::quiet_NaN());
+    return ParamValue::makeDouble(std::numeric_limits<double>::quiet_NaN()).withText(s);
   if (s == ".inf" || s == ".Inf" || s == "+.inf" || s == "inf" || s == "+inf")
-    return ParamValue::makeDouble(std::numeric_limits<double>::infinity());
+    return ParamValue::makeDouble(std::numeric_limits<double>::infinity()).withText(s);
   if (s == "-.inf" || s == "-.Inf" || s == "-inf")
-    return ParamValue::makeDouble(-std::numeric_limits<double>::infinity());
+    return ParamValue::makeDouble(-std::numeric_limits<double>::infinity()).withText(s);
   {
     char* end = nullptr;
     errno = 0;
     const long long v = std::strtoll(s.c_str(), &end, 10);
-    if (end != s.c_str() && *end == '\0' && errno == 0) return ParamValue::makeInt(v);
+    if (end != s.c_str() && *end == '\0' && errno == 0) return ParamValue::makeInt(v).withText(s);
   }
   {
     char* end = nullptr;
     const double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() && *end == '\0') return ParamValue::makeDouble(v);
+    if (end != s.c_str() && *end == '\0') return ParamValue::makeDouble(v).withText(s);
   }
   return ParamValue::makeString(s);
 }

@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
@@ -30,6 +31,8 @@ namespace preadaptive_mrac {
 namespace {
 
 constexpr char kPrompt[] = "JSBSim> ";
+// How often a wait for JSBSim looks at its process and output [ms].
+constexpr int kWatchMs = 200;
 constexpr size_t kPromptLen = sizeof(kPrompt) - 1;
 const char* const kInstallHint =
     "install it with scripts/install_jsbsim (extracts /usr/games/JSBSim from Debian's "
@@ -139,6 +142,11 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
+std::string endedHow(int status) {
+  return WIFEXITED(status) ? "it ended with exit code " + std::to_string(WEXITSTATUS(status))
+                           : "it was killed by signal " + std::to_string(WTERMSIG(status));
+}
+
 /// Thrown inside the start-up when JSBSim could not bind the port (taken meanwhile): a fresh
 /// port is tried.
 struct PortTaken {};
@@ -203,6 +211,7 @@ std::string findJsbsimRoot(const std::string& configured, const std::string& air
 JsbsimProcess::JsbsimProcess(const JsbsimLaunch& launch) {
   const std::string exe = findJsbsimExecutable(launch.executable);
   const std::string root = findJsbsimRoot(launch.root, launch.aircraft);
+  names_ = {launch.aircraft, launch.initialize, root};
   timeout_ms_ = static_cast<int>(launch.timeout * 1000.0);
   for (int attempt = 0;; ++attempt) {
     try {
@@ -240,6 +249,8 @@ void JsbsimProcess::removeDir() {
 void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe,
                               const std::string& root) {
   port_ = freePort();
+  log_mark_ = 0;
+  greeted_ = false;
   if (dir_.empty()) {
     const char* tmp = std::getenv("TMPDIR");
     std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/pmrac_jsbsim_XXXXXX";
@@ -323,6 +334,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
 
   // Connect with retry until JSBSim listens (it loads the aircraft first: ~10 ms).
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms_);
+  auto next_watch = std::chrono::steady_clock::now() + std::chrono::milliseconds(kWatchMs);
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -336,16 +348,14 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
     int status = 0;
     if (exited(&status, 0.0)) {
       pid_ = -1;
-      std::string how = WIFEXITED(status) ? "exit code " + std::to_string(WEXITSTATUS(status))
-                                          : "signal " + std::to_string(WTERMSIG(status));
-      throw JsbsimError("JSBSim ended while starting (" + how + "): the aircraft '" +
-                        launch.aircraft + "' or its initial condition '" + launch.initialize +
-                        "' under " + root +
-                        " did not load (check plant.jsbsim.aircraft, "
-                        "plant.jsbsim.initialize, plant.jsbsim.root); JSBSim said: " +
-                        logTail());
+      failFor("ended while starting: the aircraft '" + launch.aircraft +
+                  "' or its initial condition '" + launch.initialize + "' under " + root +
+                  " did not load (check plant.jsbsim.aircraft, plant.jsbsim.initialize, "
+                  "plant.jsbsim.root)",
+              endedHow(status));
     }
     if (readFile(log_path_).find("Could not bind") != std::string::npos) throw PortTaken{};
+    watchStart(&next_watch);
     if (std::chrono::steady_clock::now() > deadline)
       throw JsbsimError("JSBSim did not open its input socket on port " + std::to_string(port_) +
                         " within " + std::to_string(timeout_ms_) +
@@ -359,6 +369,51 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   if (replies_[0].find("Connected to JSBSim server") == std::string::npos)
     throw JsbsimError("JSBSim on port " + std::to_string(port_) +
                       " greeted with an unexpected text: '" + replies_[0] + "'");
+  // What it printed while loading has been read: from here on only the newer lines matter.
+  log_mark_ = readFile(log_path_).size();
+  greeted_ = true;
+}
+
+void JsbsimProcess::watchStart(std::chrono::steady_clock::time_point* next_watch) {
+  // Every fatal message of a load is followed by JSBSim's exit, seen above within 2 ms; this
+  // catches one that is not. A failed property lookup alone does not count here: while
+  // loading, only the exit that follows it says it was fatal.
+  const auto now = std::chrono::steady_clock::now();
+  if (now < *next_watch) return;
+  *next_watch = now + std::chrono::milliseconds(kWatchMs);
+  if (diagnoseJsbsimLog(readFile(log_path_), names_).certain)
+    failFor("did not load", "it was still running, killed now");
+}
+
+void JsbsimProcess::watchSilence(int waited_ms) {
+  int status = 0;
+  if (exited(&status, 0.0)) {
+    pid_ = -1;
+    failFor("ended while a reply was due", endedHow(status));
+  }
+  // While loading (before the greeting) a failed property lookup alone does not count: the
+  // exit that follows a fatal one says so.
+  const JsbsimFault fault = diagnoseJsbsimLog(logSince(log_mark_), names_);
+  if (fault.certain || (fault.found() && greeted_))
+    failFor("cannot go on", "it was still running, killed now");
+  if (waited_ms >= timeout_ms_)
+    failDead("did not answer within " + std::to_string(timeout_ms_) + " ms (plant.jsbsim.timeout)");
+}
+
+void JsbsimProcess::takeRefusal(bool rest_dropped) {
+  // JSBSim ignores the rest of a packet after a command it refused for its property: with
+  // replies still due nothing more will come. A refusal that ends its packet is the caller's
+  // to handle; the lookup it logged no longer counts against a later wait.
+  if (rest_dropped)
+    failFor("refused a property and ignored the rest of the packet ('" + replies_.back() + "')",
+            "it was still running, killed now");
+  log_mark_ = readFile(log_path_).size();
+}
+
+std::string JsbsimProcess::logSince(size_t from) const {
+  if (log_path_.empty()) return {};
+  const std::string text = readFile(log_path_);
+  return from < text.size() ? text.substr(from) : std::string();
 }
 
 bool JsbsimProcess::exited(int* status, double wait_s) {
@@ -375,18 +430,25 @@ bool JsbsimProcess::exited(int* status, double wait_s) {
 
 void JsbsimProcess::failDead(const std::string& what) {
   int status = 0;
-  std::string how = "still running, killed now";
+  std::string how = "it was still running, killed now";
   if (exited(&status, 1.0)) {
     pid_ = -1;
-    how = WIFEXITED(status) ? "it ended with exit code " + std::to_string(WEXITSTATUS(status))
-                            : "it was killed by signal " + std::to_string(WTERMSIG(status));
+    how = endedHow(status);
   }
+  failFor(what, how);
+}
+
+void JsbsimProcess::failFor(const std::string& what, const std::string& how) {
+  // The cause JSBSim printed, when it printed one, is the headline; else what was seen.
+  const JsbsimFault fault = diagnoseJsbsimLog(logSince(log_mark_), names_);
   const std::string tail = logTail();
   stop();
+  if (fault.found()) throw JsbsimError(fault.message() + " (" + how + ")");
   throw JsbsimError("JSBSim " + what + " (" + how + "); JSBSim said: " + tail);
 }
 
-void JsbsimProcess::readPrompts(size_t n) {
+void JsbsimProcess::readPrompts(size_t n, size_t packet_end) {
+  if (packet_end == 0) packet_end = n;
   replies_.clear();
   char chunk[65536];
   size_t pos = 0;
@@ -395,6 +457,10 @@ void JsbsimProcess::readPrompts(size_t n) {
     if (i != std::string::npos) {
       replies_.emplace_back(buf_, pos, i - pos);
       pos = i + kPromptLen;
+      if (jsbsimRefusedProperty(replies_.back())) {
+        const size_t r = replies_.size();
+        takeRefusal(r < packet_end || (r > packet_end && r < n));
+      }
       continue;
     }
     buf_.erase(0, pos);
@@ -402,18 +468,21 @@ void JsbsimProcess::readPrompts(size_t n) {
     // (A read that spun on a non-blocking socket for the next chunk was slower on this
     // loaded 2-core machine: the spinning client takes the CPU from JSBSim.)
     ssize_t got = -1;
+    int waited_ms = 0;
     for (;;) {
       quickAck(fd_);
       got = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
       if (got >= 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) break;
       pollfd p{fd_, POLLIN, 0};
+      const int slice = std::max(1, std::min(kWatchMs, timeout_ms_ - waited_ms));
       int pr;
       do {
-        pr = ::poll(&p, 1, timeout_ms_);
+        pr = ::poll(&p, 1, slice);
       } while (pr < 0 && errno == EINTR);
-      if (pr == 0)
-        failDead("did not answer within " + std::to_string(timeout_ms_) +
-                 " ms (plant.jsbsim.timeout)");
+      if (pr == 0) {
+        waited_ms += slice;
+        watchSilence(waited_ms);
+      }
     }
     quickAck(fd_);
     if (got <= 0) failDead("closed the connection mid-run (the process ended or was killed)");
@@ -444,10 +513,10 @@ const std::vector<std::string>& JsbsimProcess::transact2(const std::string& firs
   sendAll(first.data(), first.size());
   // The first reply's arrival says JSBSim's input pass has taken `first` (the step runs next):
   // `second` then reaches the pass after it, or the one in its middle.
-  readPrompts(1);
+  readPrompts(1, lines1);
   std::string head = replies_[0];
   sendAll(second, std::strlen(second));
-  readPrompts(lines1 + lines2 - 1);
+  readPrompts(lines1 + lines2 - 1, lines1 - 1);
   replies_.insert(replies_.begin(), std::move(head));
   return replies_;
 }

@@ -154,6 +154,20 @@ TEST(ParamTable, StringKeysTakeNamesThatLookLikeNumbers) {
   ParamReader r(tree);
   EXPECT_EQ(r.getString("plant.jsbsim.aircraft"), "737");
   EXPECT_TRUE(r.ok());
+  // The name is the text as written, whatever number YAML reads in it.
+  for (const std::string name : {"007", "737.5", "1e3", "0x1F", "nan"}) {
+    applyOverride(&tree, "plant.jsbsim.aircraft=" + name);
+    ParamReader as_name(tree);
+    EXPECT_EQ(as_name.getString("plant.jsbsim.aircraft"), name);
+    EXPECT_TRUE(as_name.ok()) << name;
+  }
+  // A number for a numeric key stays the number.
+  applyOverride(&tree, "plant.jsbsim.mach=0.80");
+  applyOverride(&tree, "controller.seed=007");
+  ParamReader numbers(tree);
+  EXPECT_EQ(numbers.getDouble("plant.jsbsim.mach"), 0.8);
+  EXPECT_EQ(numbers.getInt("controller.seed"), 7);
+  EXPECT_TRUE(numbers.ok());
   applyOverride(&tree, "plant.jsbsim.aircraft=[7, 3]");  // not a name: still refused
   ParamReader bad(tree);
   bad.getString("plant.jsbsim.aircraft");

@@ -12,14 +12,21 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/core/sim/scenario_plant.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_linearise.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_plant.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 #include "test_helpers.hpp"
 
 namespace preadaptive_mrac {
@@ -239,7 +246,7 @@ TEST(JsbsimFailure, BadAircraftNameIsAnErrorAndNoProcess) {
   } catch (const JsbsimError& e) {
     EXPECT_NE(std::string(e.what()).find("plant.jsbsim.aircraft"), std::string::npos) << e.what();
   }
-  // An aircraft folder whose file does not load: JSBSim itself ends, the error quotes it.
+  // An aircraft folder whose file does not load: JSBSim itself ends, the error says why.
   const std::string root = ::testing::TempDir() + "pmrac_bad_root";
   ASSERT_EQ(std::system(("rm -rf " + root + " && mkdir -p " + root + "/aircraft/broken && " +
                          "echo '<fdm_config name=\"broken\"><metrics>' > " + root +
@@ -253,9 +260,168 @@ TEST(JsbsimFailure, BadAircraftNameIsAnErrorAndNoProcess) {
     JsbsimPlant plant(p, 0.001, 0.0);
     FAIL() << "started with a broken aircraft file";
   } catch (const JsbsimError& e) {
-    EXPECT_NE(std::string(e.what()).find("did not load"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("plant.jsbsim.aircraft", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not well-formed XML"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(noChildLeft());
+}
+
+/// A copy of the package's aircraft root in a fresh temporary folder, to break.
+std::filesystem::path copyOfTheRoot(const std::string& name) {
+  const std::filesystem::path to = ::testing::TempDir() + "pmrac_" + name;
+  std::filesystem::remove_all(to);
+  std::filesystem::copy(findJsbsimRoot("", "b747_pmrac"), to,
+                        std::filesystem::copy_options::recursive);
+  return to;
+}
+
+void writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+/// The package's aircraft renamed `name`, its fcs/pmrac-* and pmrac/* properties renamed so
+/// that it loads and flies but lacks the package's interface (as JSBSim's own aircraft do).
+void addAircraftWithoutInterface(const std::filesystem::path& root, const std::string& name) {
+  const std::filesystem::path from = root / "aircraft/b747_pmrac";
+  std::ifstream in(from / "b747_pmrac.xml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string xml = ss.str();
+  for (const auto& [a, b] : std::vector<std::pair<std::string, std::string>>{
+           {"fcs/pmrac-elevator-cmd-rad", "fcs/other-elevator-cmd-rad"},
+           {"pmrac/", "other/"},
+           {"name=\"b747_pmrac\"", "name=\"" + name + "\""}})
+    for (size_t at = xml.find(a); at != std::string::npos; at = xml.find(a, at + b.size()))
+      xml.replace(at, a.size(), b);
+  std::filesystem::create_directories(root / "aircraft" / name);
+  writeFile(root / "aircraft" / name / (name + ".xml"), xml);
+  std::filesystem::copy(from / "cruise_m080_h40k.xml", root / "aircraft" / name);
+}
+
+struct LoadFailure {
+  std::string message;
+  double seconds = 0.0;  ///< wall time to the error
+};
+
+/// Start the plant on `p` (which must fail) and time it.
+LoadFailure failToLoad(const JsbsimParams& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LoadFailure f;
+  try {
+    JsbsimPlant plant(p, 0.001, 0.0);
+    ADD_FAILURE() << "started with the aircraft '" << p.aircraft << "' under " << p.root;
+  } catch (const JsbsimError& e) {
+    f.message = e.what();
+  }
+  f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return f;
+}
+
+/// The error comes within ~2 s of the start (not at plant.jsbsim.timeout), its headline names
+/// `key` and it holds `cause`; no JSBSim is left.
+void expectNamedFast(const LoadFailure& f, const std::string& key, const std::string& cause) {
+  EXPECT_LT(f.seconds, 3.0) << f.message;
+  EXPECT_EQ(f.message.compare(0, key.size() + 1, key + ":"), 0) << f.message;
+  EXPECT_NE(f.message.find(cause), std::string::npos) << f.message;
+  EXPECT_EQ(f.message.find("plant.jsbsim.timeout"), std::string::npos) << f.message;
+  EXPECT_TRUE(noChildLeft());
+}
+
+TEST(JsbsimFailure, AnAircraftThatDoesNotLoadFailsFastNamingTheCause) {
+  const RunConfig cfg = jsbsimConfig();
+  JsbsimParams p = cfg.plant.jsbsim;
+  const std::filesystem::path root = copyOfTheRoot("load_failures");
+  p.root = root.string();
+  p.timeout = 10.0;  // the default: each failure must come long before it
+
+  // No such aircraft folder: refused before JSBSim starts.
+  p.aircraft = "737";
+  expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft", "no aircraft '737'");
+
+  // An aircraft that loads but lacks the package's interface: JSBSim refuses the first of the
+  // package's properties (and would leave the rest of that packet unanswered).
+  addAircraftWithoutInterface(root, "737");
+  expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft",
+                  "has no property fcs/pmrac-elevator-cmd-rad");
+
+  // No such initial condition.
+  p.aircraft = "b747_pmrac";
+  p.initialize = "cruise_m090_h99k";
+  expectNamedFast(failToLoad(p), "plant.jsbsim.initialize",
+                  "no initial condition 'cruise_m090_h99k'");
+
+  // An initial-condition file that is not one.
+  writeFile(root / "aircraft/b747_pmrac/not_an_ic.xml", "<?xml version=\"1.0\"?>\n<foo/>\n");
+  p.initialize = "not_an_ic";
+  expectNamedFast(failToLoad(p), "plant.jsbsim.initialize", "is not an <initialize> file");
+
+  // The engine file the aircraft names is missing (fatal to JSBSim; so is the thruster's).
+  p.initialize = "cruise_m080_h40k";
+  std::filesystem::remove(root / "engine/pmrac_thrust.xml");
+  expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft, plant.jsbsim.root",
+                  "Could not open file: pmrac_thrust");
+  std::filesystem::remove_all(root);
+}
+
+TEST(JsbsimFailure, ARefusedPropertyEndsItsPacketOnly) {
+  // A refused property that ends its packet is an answer (the caller's error); one with more
+  // commands behind it is fatal at once (JSBSim answers none of them).
+  JsbsimLaunch l;
+  JsbsimProcess proc(l);
+  EXPECT_THROW(proc.get({"pmrac/no-such-property"}), JsbsimError);
+  EXPECT_GT(proc.pid(), 0);
+  EXPECT_NEAR(proc.get({"ic/mach"})[0], 0.8, 1e-6);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    proc.get({"pmrac/no-such-property", "ic/mach"});
+    FAIL() << "read on after a refused property";
+  } catch (const JsbsimError& e) {
+    EXPECT_NE(std::string(e.what()).find("no property pmrac/no-such-property"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3.0);
+  EXPECT_LT(proc.pid(), 0);
+}
+
+TEST(JsbsimFailure, ASilentJsbsimStillEndsAtTheTimeout) {
+  // Alive, nothing fatal in its output, no reply coming: plant.jsbsim.timeout is the last resort.
+  JsbsimLaunch l;
+  l.timeout = 0.5;
+  JsbsimProcess proc(l);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    proc.transact("get ic/mach\n", 2);
+    FAIL() << "two replies to one command";
+  } catch (const JsbsimError& e) {
+    EXPECT_NE(std::string(e.what()).find("did not answer within 500 ms (plant.jsbsim.timeout)"),
+              std::string::npos)
+        << e.what();
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_GT(s, 0.45);
+  EXPECT_LT(s, 3.0);
+  EXPECT_LT(proc.pid(), 0);
+}
+
+TEST(JsbsimLog, FindsTheFatalLinesOnly) {
+  const JsbsimNames n{"737", "cruise", "/r"};
+  EXPECT_FALSE(diagnoseJsbsimLog("JSBSim startup beginning ...\n\nScript: \"x\"\n", n).found());
+  EXPECT_FALSE(diagnoseJsbsimLog("Could not bind to TCP input socket, error = 98\n", n).found());
+  // A failed lookup alone: the cause, but not certain (a refused `get` leaves the same line).
+  JsbsimFault f = diagnoseJsbsimLog(
+      "Start: x\nFGPropertyManager::GetNode() No node found for fcs/pmrac-elevator-cmd-rad\n", n);
+  EXPECT_TRUE(f.found());
+  EXPECT_FALSE(f.certain);
+  EXPECT_EQ(f.key, "plant.jsbsim.aircraft");
+  f = diagnoseJsbsimLog(
+      "Could not open file: Path \"/r/aircraft/737/cruise.xml\"\n"
+      "File: Path \"/r/aircraft/737/cruise\" could not be read.\n",
+      n);
+  EXPECT_TRUE(f.certain);
+  EXPECT_EQ(f.message(),
+            "plant.jsbsim.initialize: no initial condition 'cruise': JSBSim looks for "
+            "/r/aircraft/737/cruise.xml; JSBSim said: \"Could not open file: Path "
+            "\"/r/aircraft/737/cruise.xml\"\"");
 }
 
 TEST(JsbsimFailure, FailedTrimEndsWithAnErrorAndNoProcess) {

@@ -6,11 +6,13 @@
 
 #include <sys/types.h>
 
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_log.hpp"
 
 namespace preadaptive_mrac {
 
@@ -47,6 +49,11 @@ std::string findJsbsimRoot(const std::string& configured, const std::string& air
 /// started it whatever ends that (an exception, Ctrl-C, SIGKILL); the destructor kills the
 /// group and reaps it. One connection per process (the server
 /// serves one client, once); a fresh free port per process (a port is not reusable at once).
+///
+/// A JSBSim that cannot go on fails fast with the cause its output names (jsbsim_log.hpp): a
+/// process that ends is seen at once, a refused property (after which JSBSim ignores the rest
+/// of the packet and never answers it) at its reply, and JSBSim's fatal lines while a reply is
+/// due are looked for every 200 ms; the timeout is left for a process alive and silent.
 class JsbsimProcess {
  public:
   explicit JsbsimProcess(const JsbsimLaunch& launch);
@@ -80,8 +87,15 @@ class JsbsimProcess {
 
  private:
   [[noreturn]] void failDead(const std::string& what);
+  [[noreturn]] void failFor(const std::string& what, const std::string& how);
+  void watchStart(std::chrono::steady_clock::time_point* next_watch);
+  void watchSilence(int waited_ms);
+  void takeRefusal(bool rest_dropped);
+  std::string logSince(size_t from) const;
   void startOnce(const JsbsimLaunch& launch, const std::string& exe, const std::string& root);
-  void readPrompts(size_t n);
+  /// Read `n` replies; the first packet they answer ends at reply `packet_end` (0: at n), a
+  /// second one at n.
+  void readPrompts(size_t n, size_t packet_end = 0);
   void sendAll(const char* data, size_t size);
   bool exited(int* status, double wait_s);
   void removeDir();
@@ -90,6 +104,9 @@ class JsbsimProcess {
   int port_ = 0;
   int timeout_ms_ = 10000;
   std::string dir_, log_path_;
+  JsbsimNames names_;
+  size_t log_mark_ = 0;   ///< the log's length where the lines that may still matter start
+  bool greeted_ = false;  ///< JSBSim has loaded and answered the connection
   std::string buf_;
   std::vector<std::string> replies_;
 };

@@ -55,6 +55,10 @@ ParamValue ParamValue::makeDouble(double v) { return make(Type::kDouble, &ParamV
 ParamValue ParamValue::makeString(std::string v) {
   return make(Type::kString, &ParamValue::s_, std::move(v));
 }
+ParamValue ParamValue::withText(std::string text) && {
+  if (isNumber()) s_ = std::move(text);
+  return std::move(*this);
+}
 ParamValue ParamValue::makeList(std::vector<ParamValue> v) {
   ParamValue p;
   p.type_ = Type::kList;
@@ -273,8 +277,9 @@ bool ParamReader::getBool(const std::string& dotted, bool def) {
 std::string ParamReader::getString(const std::string& dotted) {
   const ParamValue* v = lookup(dotted, true);
   if (v == nullptr) return {};
-  // A name may look like a number (an aircraft "737"): YAML reads it as an integer, whose text
-  // is the name.
+  // A name may look like a number (an aircraft "737", "007", "1.5"): YAML reads it as one, and
+  // the text as written is the name; a number made from a value (ROS, code) has only its digits.
+  if (v->isNumber() && !v->text().empty()) return v->text();
   if (v->type() == ParamValue::Type::kInt) return std::to_string(v->asInt());
   if (v->type() != ParamValue::Type::kString) {
     fail(dotted, std::string("expected a string, got ") + ParamValue::typeName(v->type()) + " " +

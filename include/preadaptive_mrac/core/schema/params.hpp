@@ -40,6 +40,10 @@ class ParamValue {
   /// \brief Value of an int or double node.
   double asDouble() const { return type_ == Type::kInt ? static_cast<double>(i_) : d_; }
   const std::string& asString() const { return s_; }
+  /// \brief This number node remembering `text`, the scalar as written (a YAML file, --set).
+  ParamValue withText(std::string text) &&;
+  /// \brief The text a number node was read from; empty when it was made from a value.
+  const std::string& text() const { return s_; }
   const std::vector<ParamValue>& list() const { return list_; }
   std::vector<ParamValue>& list() { return list_; }
   const std::map<std::string, ParamValue>& map() const { return map_; }
@@ -69,7 +73,7 @@ class ParamValue {
   bool b_ = false;
   std::int64_t i_ = 0;
   double d_ = 0.0;
-  std::string s_;
+  std::string s_;  ///< a string node's value; a number node's text as written (withText)
   std::vector<ParamValue> list_;
   std::map<std::string, ParamValue> map_;
 };
