@@ -399,7 +399,9 @@ TEST(RunMonitorParams, StateTopicsRequiredAndUnknownKeysRefused) {
                                       pm::ParamValue::makeString("pa/plant/state")}));
   const auto p = pm::ros1::readRunMonitorParams(t, style("/mon"));
   EXPECT_EQ(p.state_topics, (std::vector<std::string>{"rac/plant/state", "pa/plant/state"}));
-  EXPECT_TRUE(p.defaults_used.empty());
+  // The only optional key, ~accept_from, is absent: its default (any publisher) is named.
+  EXPECT_EQ(p.defaults_used.size(), 1u) << joined(p.defaults_used);
+  EXPECT_TRUE(anyContains(p.defaults_used, "/mon/accept_from")) << joined(p.defaults_used);
   t.setPath("state_topic", pm::ParamValue::makeString("x"));
   t.setPath("state_topics", pm::ParamValue::makeString("rac/plant/state"));
   const auto probs = problemsOf([&] { pm::ros1::readRunMonitorParams(t, style("/mon")); });
