@@ -598,11 +598,11 @@ int main(int argc, char** argv) {
         "u/rac", "u/oracle", "rev:n", "rev:med", "rev:wst", within_head.c_str(), "|u|med", "|u|wst",
         "trav[s]", "rate[s]", "TV:med", "lim:md", "lim:wst");
     for (const auto& m : modes) {
-      const FamilySummary s =
-          summarizeFamily(repeated, rac, digests(m), have_oracle ? &oracle : nullptr);
-      const EffortSummary ef = summarizeEffort(digests(m));
+      const auto runs = digests(m);
+      const FamilySummary s = summarizeFamily(repeated, rac, runs, have_oracle ? &oracle : nullptr);
+      const EffortSummary ef = summarizeEffort(runs);
       std::optional<RevisitSummary> rev;
-      if (have_oracle) rev = summarizeRevisits(repeated, oracle, digests(m));
+      if (have_oracle) rev = summarizeRevisits(repeated, oracle, runs);
       std::printf(
           "%-15s %6.1f%% %6.1f%% %7.3f %7.3f | %8.3f %7.3f | %8.3f %5d | %8.3f %8.3f | %s || "
           "%6.3f %6.3f %7.2f %7.2f %7.4f %5.1f%% %5.1f%%\n",
