@@ -131,6 +131,14 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                              "', body='" + p.body_frame + "', velocity='" + p.velocity_frame +
                              "')");
   p.accept_from = readCallerList(r, tree, "accept_from");
+  // A program the plant runs is never taken from the parameter server, which any node may write
+  // before the plant starts: the JSBSim binary comes from the environment the user starts the
+  // launch with ($PMRAC_JSBSIM, the launch files' jsbsim arg) or the search.
+  if (tree.findPath("plant.jsbsim.executable") != nullptr)
+    r.fail("plant.jsbsim.executable",
+           "not taken from the parameter server (any node can set it): give the JSBSim binary "
+           "as $PMRAC_JSBSIM or the launch argument jsbsim:=PATH, or leave both empty to search "
+           "/usr/games/JSBSim and the build folder");
   // Written at the end of the run: a file already there (an earlier run's report) is kept.
   std::error_code ec;
   if (!p.latency_report.empty() && std::filesystem::exists(p.latency_report, ec))

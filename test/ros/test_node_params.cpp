@@ -479,6 +479,24 @@ TEST(PlantNodeParams, LatencyReportNeverReplacesAFile) {
   EXPECT_EQ(pm::ros1::readPlantNodeParams(tree, style("/plant_sim")).latency_report, path);
 }
 
+TEST(PlantNodeParams, JsbsimExecutableIsNeverAParameter) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  EXPECT_TRUE(
+      problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); }).empty());
+  // Also empty: the key itself is refused, whatever its value.
+  for (const char* value : {"/bin/true", ""}) {
+    tree.setPath("plant.jsbsim.executable", pm::ParamValue::makeString(value));
+    const auto probs =
+        problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+    ASSERT_EQ(probs.size(), 1u) << joined(probs);
+    EXPECT_TRUE(anyContains(probs,
+                            "/plant_sim/plant/jsbsim/executable: not taken from the "
+                            "parameter server"))
+        << joined(probs);
+    EXPECT_TRUE(anyContains(probs, "$PMRAC_JSBSIM")) << joined(probs);
+  }
+}
+
 TEST(LatencyStats, HistogramMatchesNearestRankInFixedMemory) {
   // Exponential-ish round trips from 5 us to 50 ms: the histogram's percentiles are the exact
   // ones within its bin width, its max and mean exact; its size does not depend on the count.
