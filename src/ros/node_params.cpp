@@ -185,6 +185,14 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   } catch (const ConfigError& e) {
     appendProblems(&problems, e.problems());
   }
+  // Saved over and over during the run: a file already there (another run's network) is kept,
+  // unless it is the ~weights_in this run continues.
+  std::error_code ec;
+  if (!p.weights_out.empty() && std::filesystem::exists(p.weights_out, ec) &&
+      !(!p.weights_in.empty() && std::filesystem::equivalent(p.weights_out, p.weights_in, ec)))
+    problems.push_back(r.name("weights_out") + ": '" + p.weights_out +
+                       "' exists: not replaced (remove it, name a new file, or give the same file "
+                       "as ~weights_in to continue the network saved there)");
   if (!p.weights_in.empty()) {
     // Check the file now, with the sizes when the config is known, so that a bad weights
     // file is reported together with every other problem instead of after start-up.

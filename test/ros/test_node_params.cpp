@@ -497,6 +497,23 @@ TEST(PlantNodeParams, JsbsimExecutableIsNeverAParameter) {
   }
 }
 
+TEST(ControllerNodeParams, WeightsOutNeverReplacesAnotherRunsFile) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  char path[] = "/tmp/pmrac_weights_out_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  close(fd);
+  tree.setPath("weights_out", pm::ParamValue::makeString(path));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
+  std::remove(path);
+  EXPECT_TRUE(anyContains(
+      probs, "/mrac_controller/weights_out: '" + std::string(path) + "' exists: not replaced"))
+      << joined(probs);
+  // Gone: saved there as before.
+  EXPECT_EQ(pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")).weights_out, path);
+}
+
 TEST(LatencyStats, HistogramMatchesNearestRankInFixedMemory) {
   // Exponential-ish round trips from 5 us to 50 ms: the histogram's percentiles are the exact
   // ones within its bin width, its max and mean exact; its size does not depend on the count.
