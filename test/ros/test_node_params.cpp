@@ -47,6 +47,14 @@ pm::KeyStyle style(const std::string& node) {
   return s;
 }
 
+/// \brief A new empty file from a mkstemp pattern (its name; "" when it could not be made).
+std::string existingTempFile(std::string pattern) {
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) return "";
+  close(fd);
+  return pattern;
+}
+
 std::vector<std::string> problemsOf(const std::function<void()>& f) {
   try {
     f();
@@ -467,13 +475,11 @@ TEST(LatencyStats, NearestRankPercentiles) {
 
 TEST(PlantNodeParams, LatencyReportNeverReplacesAFile) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
-  char path[] = "/tmp/pmrac_latency_report_XXXXXX";
-  const int fd = mkstemp(path);
-  ASSERT_GE(fd, 0);
-  close(fd);
+  const std::string path = existingTempFile("/tmp/pmrac_latency_report_XXXXXX");
+  ASSERT_FALSE(path.empty());
   tree.setPath("latency_report", pm::ParamValue::makeString(path));
   const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
-  std::remove(path);
+  std::remove(path.c_str());
   EXPECT_TRUE(anyContains(probs, "/plant_sim/latency_report")) << joined(probs);
   EXPECT_TRUE(anyContains(probs, "exists: not replaced")) << joined(probs);
   EXPECT_EQ(pm::ros1::readPlantNodeParams(tree, style("/plant_sim")).latency_report, path);
@@ -499,16 +505,14 @@ TEST(PlantNodeParams, JsbsimExecutableIsNeverAParameter) {
 
 TEST(ControllerNodeParams, WeightsOutNeverReplacesAnotherRunsFile) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
-  char path[] = "/tmp/pmrac_weights_out_XXXXXX";
-  const int fd = mkstemp(path);
-  ASSERT_GE(fd, 0);
-  close(fd);
+  const std::string path = existingTempFile("/tmp/pmrac_weights_out_XXXXXX");
+  ASSERT_FALSE(path.empty());
   tree.setPath("weights_out", pm::ParamValue::makeString(path));
   const auto probs =
       problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
-  std::remove(path);
-  EXPECT_TRUE(anyContains(
-      probs, "/mrac_controller/weights_out: '" + std::string(path) + "' exists: not replaced"))
+  std::remove(path.c_str());
+  EXPECT_TRUE(
+      anyContains(probs, "/mrac_controller/weights_out: '" + path + "' exists: not replaced"))
       << joined(probs);
   // Gone: saved there as before.
   EXPECT_EQ(pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")).weights_out, path);
