@@ -23,15 +23,7 @@ loader_pid() {
 
 # 600 s of flight (600000 steps): a lockstep run does not reach its end while the test acts.
 SCEN=$TMP/long.yaml
-cat >"$SCEN" <<'YAML'
-scenario:
-  name: long
-  description: "theta = 1 x ones, alpha command 0.1 rad; 600 s"
-  theta:
-    - {until: 600.0, scale: 1.0}
-  reference:
-    - {until: 600.0, r: 0.1}
-YAML
+echo 'scenario: {name: long, description: "600 s", theta: [{until: 600.0, scale: 1.0}], reference: [{until: 600.0, r: 0.1}]}' >"$SCEN"
 
 for CLOCK in realtime lockstep; do
   BAGS=$TMP/bags_$CLOCK
