@@ -190,6 +190,7 @@ void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>
     }
   }
   ++states_received_;
+  last_receipt_ = ros::Time::now().toSec();
   latest_stamp_ = std::max(latest_stamp_, msg->header.stamp.toSec());
   if (!ctl_.needsTruth()) {
     process(*msg, nullptr);
@@ -453,8 +454,28 @@ double MracControllerNode::staleNow() const {
   return params_.clock == ClockMode::kLockstep ? latest_stamp_ : ros::Time::now().toSec();
 }
 
+bool MracControllerNode::plantLost() {
+  if (params_.clock != ClockMode::kRealtime || params_.plant_lost_samples <= 0 ||
+      states_received_ == 0 || run_over_)
+    return false;
+  const double timeout =
+      static_cast<double>(params_.plant_lost_samples) * params_.run.controller.sample_time;
+  const double silent = ros::Time::now().toSec() - last_receipt_;
+  if (silent <= timeout) return false;
+  // The plant has gone (killed, crashed, unloaded): commands to no plant would only fill a
+  // recorder, and a launch that waits on this node would never end.
+  ROS_ERROR(
+      "no state from the plant on %s for %.3f s (~plant_lost_samples %d x %g s): the plant has "
+      "gone (its last state: step %llu); commands stopped, ending (exit code %d)",
+      state_topic_.c_str(), silent, params_.plant_lost_samples, params_.run.controller.sample_time,
+      static_cast<unsigned long long>(last_step_), kExitRuntimeError);
+  stale_timer_.stop();
+  ctx_.end(kExitRuntimeError);
+  return true;
+}
+
 void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
-  if (failed_) return;
+  if (failed_ || plantLost()) return;
   const double now = staleNow();
   // Before the first valid state there is nothing to hold (and no plant to command).
   if (state_guard_.haveValid() && state_guard_.stale(now) && !run_over_) {

@@ -131,6 +131,14 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
                              "', body='" + p.body_frame + "', velocity='" + p.velocity_frame +
                              "')");
   p.accept_from = readCallerList(r, tree, "accept_from");
+  // A program the plant runs is never taken from the parameter server, which any node may write
+  // before the plant starts: the JSBSim binary comes from the environment the user starts the
+  // launch with ($PMRAC_JSBSIM, the launch files' jsbsim arg) or the search.
+  if (tree.findPath("plant.jsbsim.executable") != nullptr)
+    r.fail("plant.jsbsim.executable",
+           "not taken from the parameter server (any node can set it): give the JSBSim binary "
+           "as $PMRAC_JSBSIM or the launch argument jsbsim:=PATH, or leave both empty to search "
+           "/usr/games/JSBSim and the build folder");
   // Written at the end of the run: a file already there (an earlier run's report) is kept.
   std::error_code ec;
   if (!p.latency_report.empty() && std::filesystem::exists(p.latency_report, ec))
@@ -177,6 +185,14 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   } catch (const ConfigError& e) {
     appendProblems(&problems, e.problems());
   }
+  // Saved over and over during the run: a file already there (another run's network) is kept,
+  // unless it is the ~weights_in this run continues.
+  std::error_code ec;
+  if (!p.weights_out.empty() && std::filesystem::exists(p.weights_out, ec) &&
+      !(!p.weights_in.empty() && std::filesystem::equivalent(p.weights_out, p.weights_in, ec)))
+    problems.push_back(r.name("weights_out") + ": '" + p.weights_out +
+                       "' exists: not replaced (remove it, name a new file, or give the same file "
+                       "as ~weights_in to continue the network saved there)");
   if (!p.weights_in.empty()) {
     // Check the file now, with the sizes when the config is known, so that a bad weights
     // file is reported together with every other problem instead of after start-up.

@@ -12,6 +12,9 @@
 #include <nodelet/nodelet.h>
 #include <pthread.h>
 #include <ros/callback_queue.h>
+#include <ros/master.h>
+#include <ros/network.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include <algorithm>
 #include <atomic>
@@ -32,16 +35,78 @@
 
 namespace preadaptive_mrac {
 namespace ros1 {
+namespace {
+
+/// \brief The XML-RPC URI of node `name` from the master ("" when it is not registered).
+std::string lookupNode(const std::string& name) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = name;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return "";
+  return payload.getType() == XmlRpc::XmlRpcValue::TypeString ? static_cast<std::string>(payload)
+                                                              : std::string();
+}
+
+/// \brief Whether the node at `uri` answers getPid (what `rosnode ping` asks). A killed node's
+/// port refuses the connection at once.
+bool nodeAnswers(const std::string& uri) {
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(uri, host, port)) return true;  // cannot ask: take it as alive
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue args, result;
+  args[0] = ros::this_node::getName();
+  const bool ok = client.execute("getPid", args, result) && !client.isFault();
+  client.close();
+  return ok;
+}
+
+/// \brief Watch the loader of a required nodelet (`nodelet load TYPE MANAGER --required`, a
+/// process of its own with the nodelet's name) from a detached thread, twice a second: when it
+/// stops answering three times in a row, end the run (kExitRuntimeError), as its unload would.
+/// The manager's bond does not always do it: a loader SIGKILLed in the first seconds of a run left
+/// the plant flying to its end. The thread holds copies only, so it may outlive the nodelet.
+void watchLoader(NodeContext ctx) {
+  std::thread([ctx] {
+    std::string uri;
+    int failures = 0;
+    while (ctx.ok()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      if (!ctx.ok()) break;
+      if (uri.empty()) {
+        uri = lookupNode(ctx.name());
+        continue;
+      }
+      failures = nodeAnswers(uri) ? 0 : failures + 1;
+      if (failures >= 3 && ctx.ok()) {
+        ROS_ERROR(
+            "%s: its loader has gone (node %s no longer answers at %s) before the run ended: "
+            "the run ends here (exit code %d)",
+            ctx.name().c_str(), ctx.name().c_str(), uri.c_str(), kExitRuntimeError);
+        ctx.end(kExitRuntimeError);
+        break;
+      }
+    }
+  }).detach();
+}
+
+}  // namespace
+
 /// \brief Base of the package's nodelets: the context of the node class it wraps.
 class ContextNodelet : public nodelet::Nodelet {
  protected:
+  /// \brief The loader's arguments hold `--required`.
+  bool isRequired() const {
+    const std::vector<std::string>& argv = getMyArgv();
+    return std::find(argv.begin(), argv.end(), "--required") != argv.end();
+  }
+
   /// \brief The nodelet's node handles and name; required when the loader's arguments hold
   /// `--required`.
   /// queue: serve the node's callbacks from this queue (a thread of the nodelet's own) instead
   /// of the nodelet's single-threaded queue (the manager's worker threads).
   NodeContext makeContext(ros::CallbackQueueInterface* queue = nullptr) {
-    const std::vector<std::string>& argv = getMyArgv();
-    const bool required = std::find(argv.begin(), argv.end(), "--required") != argv.end();
+    const bool required = isRequired();
     ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
     if (queue) {
       nh.setCallbackQueue(queue);
@@ -86,6 +151,7 @@ class PlantSimNodelet : public ContextNodelet {
     if (!readNodeParams(*ctx_, readPlantNodeParams, &params)) return;
     node_ = makePlantSimNode(*ctx_, params);
     if (!node_) return;
+    if (isRequired()) watchLoader(*ctx_);
     thread_ = std::thread([this] {
       nameThisThread();
       const int code = node_->run();

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -37,7 +38,11 @@ int main(int argc, char** argv) {
                  "YAML path, merged over the plant file, or ideal (the plant file's own); "
                  "default: b747 with plant.engine jsbsim, else the plant file's own elevator "
                  "(config/plant/b747.yaml: unlimited, as in the paper)");
-    cli::addText(app, "--weights-out", &weights_out, "save network weights and regimes");
+    cli::addText(app, "--weights-out", &weights_out,
+                 "save network weights and regimes (a file that exists is kept: exit 2, unless "
+                 "it is --weights-in or --force is given)");
+    bool force = false;
+    app.add_flag("--force", force, "replace an existing --weights-out file");
     bool list_modes = false;
     app.add_flag("--list-modes", list_modes,
                  "print the registered modes, one 'name<TAB>doc' line each, and exit");
@@ -48,6 +53,11 @@ int main(int argc, char** argv) {
     }
     if (app.count("--scenario") == 0)
       throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+    std::error_code ec;
+    if (!force && !weights_out.empty() && std::filesystem::exists(weights_out, ec) &&
+        !(!req.weights_in.empty() && std::filesystem::equivalent(weights_out, req.weights_in, ec)))
+      throw cli::UsageError("--weights-out: '" + weights_out +
+                            "' exists: not replaced (remove it, name a new file, or --force)");
     cli::finishRunOptions(text, &req);
     if (!elevator.empty() && elevator != "ideal")
       req.plant_presets.push_back(cli::elevatorPresetPath("--elevator", elevator));

@@ -273,6 +273,22 @@ TEST(Cli, WeightsCarryOverBetweenRuns) {
   EXPECT_NE(second.out.find("\"episodes\":8,\"theta_hat_final\""), std::string::npos) << second.out;
 }
 
+TEST(Cli, WeightsOutNeverReplacesAFileWithoutForce) {
+  const std::string w = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_keep.yaml";
+  std::remove(w.c_str());
+  const std::string common = "--scenario 1 --mode pa_learn --dt 0.01";
+  ASSERT_EQ(runCli(common + " --weights-out " + w).code, 0);
+  const CmdResult again = runCli(common + " --weights-out " + w);
+  EXPECT_EQ(again.code, 2) << again.out;
+  EXPECT_NE(again.out.find("--weights-out: '" + w + "' exists: not replaced"), std::string::npos)
+      << again.out;
+  EXPECT_EQ(std::count(again.out.begin(), again.out.end(), '\n'), 1) << again.out;
+  // Continuing the network read from it, or asked to: replaced.
+  EXPECT_EQ(runCli(common + " --weights-in " + w + " --weights-out " + w).code, 0);
+  EXPECT_EQ(runCli(common + " --weights-out " + w + " --force").code, 0);
+  std::remove(w.c_str());
+}
+
 TEST(Config, NonScalarMapKeysAreAFileErrorNotACrash) {
   // Found by fuzz/fuzz_yaml_config: a list as a map key threw an uncaught yaml-cpp exception.
   for (const char* text : {"? [a, b]\n: 1\n", "plant: {[1]: 2}\n", "{? {a: 1} : x}\n"}) {

@@ -47,6 +47,14 @@ pm::KeyStyle style(const std::string& node) {
   return s;
 }
 
+/// \brief A new empty file from a mkstemp pattern (its name; "" when it could not be made).
+std::string existingTempFile(std::string pattern) {
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) return "";
+  close(fd);
+  return pattern;
+}
+
 std::vector<std::string> problemsOf(const std::function<void()>& f) {
   try {
     f();
@@ -467,16 +475,47 @@ TEST(LatencyStats, NearestRankPercentiles) {
 
 TEST(PlantNodeParams, LatencyReportNeverReplacesAFile) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
-  char path[] = "/tmp/pmrac_latency_report_XXXXXX";
-  const int fd = mkstemp(path);
-  ASSERT_GE(fd, 0);
-  close(fd);
+  const std::string path = existingTempFile("/tmp/pmrac_latency_report_XXXXXX");
+  ASSERT_FALSE(path.empty());
   tree.setPath("latency_report", pm::ParamValue::makeString(path));
   const auto probs = problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
-  std::remove(path);
+  std::remove(path.c_str());
   EXPECT_TRUE(anyContains(probs, "/plant_sim/latency_report")) << joined(probs);
   EXPECT_TRUE(anyContains(probs, "exists: not replaced")) << joined(probs);
   EXPECT_EQ(pm::ros1::readPlantNodeParams(tree, style("/plant_sim")).latency_report, path);
+}
+
+TEST(PlantNodeParams, JsbsimExecutableIsNeverAParameter) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
+  EXPECT_TRUE(
+      problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); }).empty());
+  // Also empty: the key itself is refused, whatever its value.
+  for (const char* value : {"/bin/true", ""}) {
+    tree.setPath("plant.jsbsim.executable", pm::ParamValue::makeString(value));
+    const auto probs =
+        problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); });
+    ASSERT_EQ(probs.size(), 1u) << joined(probs);
+    EXPECT_TRUE(anyContains(probs,
+                            "/plant_sim/plant/jsbsim/executable: not taken from the "
+                            "parameter server"))
+        << joined(probs);
+    EXPECT_TRUE(anyContains(probs, "$PMRAC_JSBSIM")) << joined(probs);
+  }
+}
+
+TEST(ControllerNodeParams, WeightsOutNeverReplacesAnotherRunsFile) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
+  const std::string path = existingTempFile("/tmp/pmrac_weights_out_XXXXXX");
+  ASSERT_FALSE(path.empty());
+  tree.setPath("weights_out", pm::ParamValue::makeString(path));
+  const auto probs =
+      problemsOf([&] { pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")); });
+  std::remove(path.c_str());
+  EXPECT_TRUE(
+      anyContains(probs, "/mrac_controller/weights_out: '" + path + "' exists: not replaced"))
+      << joined(probs);
+  // Gone: saved there as before.
+  EXPECT_EQ(pm::ros1::readControllerNodeParams(tree, style("/mrac_controller")).weights_out, path);
 }
 
 TEST(LatencyStats, HistogramMatchesNearestRankInFixedMemory) {

@@ -57,6 +57,13 @@ echo keep >"$TMP/taken"
 analyze "$TMP/good.bag" --out "$TMP/taken"
 check "--out on an existing file: exit 2, one line, the file untouched" \
   eval '[ "$RC" = 2 ] && said "exists" && no_traceback && [ "$(cat "$TMP/taken")" = keep ]'
+analyze "$TMP/good.bag" --out "$TMP/first"
+SUM=$(md5sum <"$TMP/first/metrics.json")
+analyze "$TMP/nan.bag" --out "$TMP/first"
+check "--out on a folder with an earlier analysis: exit 2, one line, its metrics.json untouched" \
+  eval '[ "$RC" = 2 ] && said "earlier analysis" && [ "$(grep -c . "$TMP/err")" = 1 ] && [ "$(md5sum <"$TMP/first/metrics.json")" = "$SUM" ]'
+analyze "$TMP/nan.bag" --out "$TMP/first" --force
+check "... replaced with --force" eval '[ "$RC" = 0 ] && [ "$(md5sum <"$TMP/first/metrics.json")" != "$SUM" ]'
 
 mkdir "$TMP/rec"
 cp "$TMP/killed.bag" "$TMP/rec/run.bag.active"

@@ -6,7 +6,8 @@
 # (roslaunch, rosmaster, rosout, plant, controller, recorder, monitor: the process tree of the
 # launch) must be on 127.0.0.1 (ss -ltnp / -lunp). Then the same check without the preload
 # library (PMRAC_LOOPBACK_BIND=0) must SEE roscpp's XML-RPC servers on 0.0.0.0: the checker is
-# checked, and the reason for the shim stays measured.
+# checked, and the reason for the shim stays measured. Also a plain roslaunch typed without
+# scripts/lib/ros_env: the nodes the launch file starts must be on loopback all the same.
 #   Env: PMRAC_BUILD_DIR (default build).
 set -uo pipefail
 TEST_NAME=loopback
@@ -56,10 +57,16 @@ run() {
     unset ROS_IP ROS_HOSTNAME LD_PRELOAD PMRAC_LOOPBACK_BIND
     export ROS_MASTER_URI=http://127.0.0.1:$port ROS_HOME=$W/$name/home ROS_LOG_DIR=$W/$name/log
     for kv in "$@"; do export "${kv?}"; done
+    local args=(-p "$port" preadaptive_mrac scenario.launch scenario:="$W/short.yaml"
+      clock:=realtime record:=true bag_dir:="$W/$name/bags" latency_report:="$W/$name/plant.json"
+      output:=log shape:="$shape")
+    if [ "${PLAIN:-0}" = 1 ]; then
+      # roslaunch typed by hand: no scripts/lib/ros_env, only what the launch file does.
+      mkdir -p "$W/$name"
+      exec setsid timeout --signal=INT 60 roslaunch "${args[@]}" >"$W/$name/launch.log" 2>&1
+    fi
     exec setsid "$ROOT/scripts/lib/launch_checked" --quiet --timeout 60 --log "$W/$name/launch.log" \
-      --expect-report "$W/$name/plant.json" -- -p "$port" preadaptive_mrac scenario.launch \
-      scenario:="$W/short.yaml" clock:=realtime record:=true bag_dir:="$W/$name/bags" \
-      latency_report:="$W/$name/plant.json" output:=log shape:="$shape"
+      --expect-report "$W/$name/plant.json" -- "${args[@]}"
   ) &
   LC_PID=$!
   # Wait until the plant, controller and recorder are up: the recorder's progress topic is
@@ -94,7 +101,7 @@ run() {
 check_run() {  # NAME: the run ended well, its processes were seen, every socket on loopback
   local name=$1 n procs want others
   shift
-  [ "$RC" = 0 ] && ok "$name: the run completed (launch_checked exit 0)" ||
+  [ "$RC" = 0 ] && ok "$name: the run completed (exit 0)" ||
     bad "$name: the run failed: launch_checked exit $RC ($(tail -5 "$W/$name/launch.log"))"
   n=$(wc -l <"$W/$name.sockets")
   procs=$(awk '{print $3}' "$W/$name.sockets" | sort -u | tr '\n' ' ')
@@ -119,6 +126,16 @@ check_run shim rosmaster roslaunch rosout plant_sim_node mrac_controller bag_rec
 run nodelet nodelet
 check_run nodelet rosmaster roslaunch rosout pmrac_manager
 
+# roslaunch typed by hand (no ros_env): scenario.launch's loopback arg (default true when neither
+# ROS_IP nor ROS_HOSTNAME is set) keeps every node it starts on loopback. roslaunch, the master it
+# starts and rosout exist before the launch file is read, so they follow the shell (the
+# documented gap, docs/reference/ros.md "Network exposure"); they are left out of this check.
+PLAIN=1 run plain process
+PLAIN=0
+grep -Ev " (rosmaster|roslaunch|rosout|python3?)\$" "$W/plain.sockets" >"$W/plain_nodes.sockets"
+cp "$W/plain.sockets" "$W/plain_all.sockets"
+mv "$W/plain_nodes.sockets" "$W/plain.sockets"
+check_run plain plant_sim_node mrac_controller bag_recorder_no
 # The checker sees a socket on another address: the same run without the shim.
 run noshim process PMRAC_LOOPBACK_BIND=0
 others=$(awk '$2 !~ /^127\.0\.0\.1:/ && $2 !~ /^\[::1\]:/' "$W/noshim.sockets")

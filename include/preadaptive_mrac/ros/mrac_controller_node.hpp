@@ -65,6 +65,9 @@ class MracControllerNode {
   /// \brief Every sample time: with no valid state for ~stale_timeout, publish the safe
   /// command (~stale_policy) of the last valid state, flagged `stale`; then diagnostics.
   void staleTimerCallback(const ros::TimerEvent&);
+  /// \brief ~clock realtime: no state at all (valid or not) for ~plant_lost_samples sample
+  /// times: log it once, stop the staleness timer and end the node (kExitRuntimeError).
+  bool plantLost();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   bool subscribersReady() const;
   void subscribe();
@@ -104,6 +107,7 @@ class MracControllerNode {
   // with other runs is involved); realtime in ROS time.
   bool stale_ = false;
   double latest_stamp_ = 0.0;  ///< lockstep: stamp [s] of the latest state received
+  double last_receipt_ = 0.0;  ///< ROS time [s] the latest admitted state (valid or not) came
   /// \brief Now for the staleness check [s]: the latest state's stamp in lockstep, else ROS time.
   double staleNow() const;
   std::uint64_t last_valid_step_ = 0;  ///< step of the last valid state
