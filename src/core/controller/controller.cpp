@@ -253,6 +253,13 @@ StepOutput Controller::step(const StepInput& in) {
   // A strategy's probing signal is part of the adaptive term (only pa_robust has one).
   const double excitation = strategy_->excitation(in.t);
   if (excitation != 0.0) out.u_adaptive += excitation;
+  // A strategy's error feedback: -k e^T P B makes V = e^T P e fall faster than the estimate
+  // alone makes it (e_dot = A_r e + B (theta - theta_hat)^T x + B u_ef), so the error a switch
+  // left returns sooner. On the error against the reference model itself, hedged or not: a
+  // proportional term holds no state to wind up, and the rate limit's share of a transient is
+  // error it should act on.
+  const double k_ef = strategy_->errorFeedback();
+  if (k_ef != 0.0) out.u_adaptive -= k_ef * dotOf(ev_, PB_);
   out.u_unsaturated = out.u_baseline + out.u_adaptive;
   // The command the actuator can follow; the plant applies the same limits.
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);

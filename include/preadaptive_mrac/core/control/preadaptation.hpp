@@ -101,6 +101,9 @@ class PreadaptationStrategy {
     (void)t;
     return 0.0;
   }
+  /// \brief Gain k of an error feedback -k e^T P B added to the adaptive term (0: none; only
+  /// pa_robust has one, the paper's modes are unchanged).
+  virtual double errorFeedback() const { return 0.0; }
   /// \brief Start a phase with theta_hat already set (an external trigger, Controller::startPhase).
   virtual void startExternalPhase() {}
 };

@@ -65,6 +65,8 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// \brief The square wave +-`excitation` of period `excitation_period` at time t [rad]; with
   /// `excitation_time` > 0 only for that long after the last onset, else 0.
   double excitation(double t) const override;
+  /// \brief `error_feedback`: the gain of -k e^T P B on the adaptive term.
+  double errorFeedback() const override { return rc_.error_feedback; }
 
   /// \brief The loss of effectiveness nu = 1 - Lambda identified over the current regime so far
   /// and its information (1 / variance); (0, 0) before enough data.
