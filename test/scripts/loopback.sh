@@ -60,6 +60,10 @@ run() {
     local args=(-p "$port" preadaptive_mrac scenario.launch scenario:="$W/short.yaml"
       clock:=realtime record:=true bag_dir:="$W/$name/bags" latency_report:="$W/$name/plant.json"
       output:=log shape:="$shape")
+    if [ "${COMPARE:-0}" = 1 ]; then
+      args=(-p "$port" preadaptive_mrac compare.launch scenario:="$W/short.yaml" clock:=realtime
+        record:=true bag_dir:="$W/$name/bags" output:=log shape:="$shape")
+    fi
     if [ "${PLAIN:-0}" = 1 ]; then
       # roslaunch typed by hand: no scripts/lib/ros_env, only what the launch file does.
       mkdir -p "$W/$name"
@@ -76,7 +80,7 @@ run() {
   while [ $((SECONDS - t0)) -lt 30 ]; do
     ROS_MASTER_URI=http://127.0.0.1:$port timeout 5 rostopic list 2>/dev/null |
       grep -q 'progress$' &&
-      ROS_MASTER_URI=http://127.0.0.1:$port timeout 5 rostopic info /controller/status \
+      ROS_MASTER_URI=http://127.0.0.1:$port timeout 5 rostopic info "${STATUS_TOPIC:-/controller/status}" \
         2>/dev/null | grep -q 'Publishers:' && break
     sleep 0.3
   done
@@ -136,6 +140,12 @@ grep -Ev " (rosmaster|roslaunch|rosout|python3?)\$" "$W/plain.sockets" >"$W/plai
 cp "$W/plain.sockets" "$W/plain_all.sockets"
 mv "$W/plain_nodes.sockets" "$W/plain.sockets"
 check_run plain plant_sim_node mrac_controller bag_recorder_no
+# compare.launch typed by hand: its own loopback arg, the same rule.
+PLAIN=1 COMPARE=1 STATUS_TOPIC=/pa/controller/status run compare process
+PLAIN=0 COMPARE=0 STATUS_TOPIC=/controller/status
+grep -Ev " (rosmaster|roslaunch|rosout|python3?)\$" "$W/compare.sockets" >"$W/compare_nodes.sockets"
+mv "$W/compare_nodes.sockets" "$W/compare.sockets"
+check_run compare plant_sim_node mrac_controller bag_recorder_no
 # The checker sees a socket on another address: the same run without the shim.
 run noshim process PMRAC_LOOPBACK_BIND=0
 others=$(awk '$2 !~ /^127\.0\.0\.1:/ && $2 !~ /^\[::1\]:/' "$W/noshim.sockets")
