@@ -64,6 +64,7 @@ pmrac_library(preadaptive_mrac_core
 # objects (pmrac_link_engines), a shared library needs it loaded (--no-as-needed).
 pmrac_library(preadaptive_mrac_jsbsim
   src/jsbsim/jsbsim_log.cpp
+  src/jsbsim/jsbsim_paths.cpp
   src/jsbsim/jsbsim_process.cpp
   src/jsbsim/jsbsim_plant.cpp
   src/jsbsim/jsbsim_linearise.cpp)
