@@ -53,6 +53,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/robust/loss_estimate.cpp
   src/core/robust/regime_decision.cpp
   src/core/closed_loop.cpp
+  src/core/step_sequencer.cpp
   src/core/margins.cpp
   src/core/sim/scenario_family.cpp
   src/core/control/input_guard.cpp
@@ -64,6 +65,7 @@ pmrac_library(preadaptive_mrac_core
 # objects (pmrac_link_engines), a shared library needs it loaded (--no-as-needed).
 pmrac_library(preadaptive_mrac_jsbsim
   src/jsbsim/jsbsim_log.cpp
+  src/jsbsim/jsbsim_paths.cpp
   src/jsbsim/jsbsim_process.cpp
   src/jsbsim/jsbsim_plant.cpp
   src/jsbsim/jsbsim_linearise.cpp)
@@ -113,7 +115,8 @@ add_executable(preadapt_sim src/tools/preadapt_sim.cpp)
 target_link_libraries(preadapt_sim preadaptive_mrac_cli_static)
 add_executable(preadapt_sweep src/tools/preadapt_sweep.cpp)
 target_link_libraries(preadapt_sweep preadaptive_mrac_cli_static)
-add_executable(preadapt_family src/tools/preadapt_family.cpp)
+add_executable(preadapt_family src/tools/preadapt_family.cpp src/tools/family_draw.cpp
+               src/tools/family_run.cpp src/tools/family_report.cpp)
 target_link_libraries(preadapt_family preadaptive_mrac_cli_static)
 add_executable(preadapt_margins src/tools/preadapt_margins.cpp)
 target_link_libraries(preadapt_margins preadaptive_mrac_cli_static)

@@ -2,7 +2,7 @@
 if(CATKIN_ENABLE_TESTING)
   set(PMRAC_CORE_TESTS solvers attention gradients closed_loop weights_io config safety family
       robust robust_parts tunables fast_paths plant_parts margins param_table l1 plant_engine
-      saturation own_aircraft)
+      saturation own_aircraft step_sequencer)
   foreach(name ${PMRAC_CORE_TESTS})
     catkin_add_gtest(test_${name} test/core/test_${name}.cpp)
     target_link_libraries(test_${name} preadaptive_mrac_io gtest_main)

@@ -25,11 +25,12 @@ MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerN
       nh_(ctx.nh()),
       params_(params),
       ctl_(params.run.plant, params.run.controller),
+      // The sequencer's guard rejects malformed samples before they reach the controller and,
+      // fed the staleness clock, tells when the last valid one is older than ~stale_timeout.
+      seq_(&ctl_, params.run.plant.n(), params.run.controller.sample_time, params.stale_timeout,
+           params.stale_policy),
       updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()),
       input_guard_(makePublisherGuard(ctx, params.accept_from)),
-      // The state guard rejects malformed samples before they reach the controller and, fed
-      // ROS time, tells when the last valid one is older than ~stale_timeout.
-      state_guard_(static_cast<std::size_t>(params.run.plant.n()), params.stale_timeout),
       truth_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300) {
   const int n = params_.run.plant.n();
   if (!params_.weights_in.empty()) {
@@ -38,8 +39,6 @@ MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerN
              params_.weights_in.c_str(), static_cast<long long>(ctl_.network().state().episodes));
   }
   episodes_saved_ = ctl_.network().state().episodes;
-  x_.resize(n);
-  x_last_valid_ = Vec::Zero(n);
   // ~queue_size bounds the backlog kept for each slow subscriber; 0 keeps everything.
   const auto q = static_cast<uint32_t>(params_.queue_size);
   cmd_pub_ = nh_.advertise<ElevatorCommand>("controller/elevator_cmd", q);
@@ -134,7 +133,7 @@ void MracControllerNode::finish() {
   state_sub_.shutdown();
   truth_sub_.shutdown();
   if (!failed_) saveWeights("shutdown", true);
-  ctx_.printFinal(std::to_string(steps_) + " steps, " + std::to_string(gaps_) +
+  ctx_.printFinal(std::to_string(seq_.steps()) + " steps, " + std::to_string(seq_.gaps()) +
                   " gap(s) in the state sequence, " +
                   std::to_string(ctl_.network().state().episodes) + " learning episode(s)");
   if (input_guard_.dropped() > 0)
@@ -252,46 +251,15 @@ void MracControllerNode::drainPending() {
 }
 
 void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
-  const int n = params_.run.plant.n();
-  if (!dt_checked_) {
-    const double ts = params_.run.controller.sample_time;
-    if (std::abs(msg.dt - ts) > 1e-12 * std::max(1.0, ts)) {
-      fatal(ctx_.keyStyle().root + "controller/sample_time: " + std::to_string(ts) +
-            " s differs from the plant's step " + std::to_string(msg.dt) + " s on " +
-            state_sub_.getTopic() + "; they must be equal");
-      return;
-    }
-    dt_checked_ = true;
-  }
-  if (have_last_) {
-    if (msg.step < last_step_) {
-      // One publisher's states arrive in order, so a step going back means a new plant run:
-      // a restarted plant (whose first states may have gone out before this node was
-      // connected again, e.g. when a recorder already satisfied its subscriber count).
-      ROS_WARN("the plant restarted (step %llu after step %llu): controller reset",
-               static_cast<unsigned long long>(msg.step),
-               static_cast<unsigned long long>(last_step_));
-      ctl_.reset();
-      ++plant_restarts_;
-      safe_step_ = 0;
-      last_valid_step_ = 0;
-    } else if (msg.step == last_step_) {
-      // The plant repeats a state when it got no answer: our command was lost. Answer again
-      // (the same command; the controller does not step twice).
-      ROS_WARN("state for step %llu repeated: publishing its command again",
-               static_cast<unsigned long long>(msg.step));
-      if (last_cmd_) cmd_pub_.publish(last_cmd_);
-      return;
-    } else if (msg.step != last_step_ + 1) {
-      gaps_ += 1;
-      ROS_WARN_THROTTLE(1.0, "states %llu .. %llu never arrived",
-                        static_cast<unsigned long long>(last_step_ + 1),
-                        static_cast<unsigned long long>(msg.step - 1));
-    }
-  }
-  have_last_ = true;
-  last_step_ = msg.step;
-  std::string why;
+  PlantSample sample;
+  sample.step = msg.step;
+  sample.t = msg.t;
+  sample.dt = msg.dt;
+  sample.x = msg.x.data();
+  sample.size = msg.x.size();
+  sample.r = msg.r;
+  sample.elevator = msg.elevator;
+  sample.total_steps = msg.total_steps;
   // The time a valid state refreshes the staleness timer with. In lockstep (and under
   // /use_sim_time) the state's own stamp (its sample time): a /clock arrives on another
   // connection and can lag the states (measured: 64 ms in a loaded lockstep pa_learn_exact
@@ -300,44 +268,60 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   const double refresh = params_.clock == ClockMode::kLockstep || ros::Time::isSimTime()
                              ? msg.header.stamp.toSec()
                              : now;
-  if (!state_guard_.accept(refresh, msg.x.data(), msg.x.size(), &why, "x")) {
-    answerRejected(msg, why);
-    return;
+  SampleOutcome o = seq_.onSample(sample, theta, refresh, now);
+  switch (o.kind) {
+    case SampleOutcome::Kind::kBadSampleTime: {
+      const double ts = params_.run.controller.sample_time;
+      fatal(ctx_.keyStyle().root + "controller/sample_time: " + std::to_string(ts) +
+            " s differs from the plant's step " + std::to_string(msg.dt) + " s on " +
+            state_sub_.getTopic() + "; they must be equal");
+      return;
+    }
+    case SampleOutcome::Kind::kRepeated:
+      // The plant repeats a state when it got no answer: our command was lost. Answer again
+      // (the same command; the controller does not step twice).
+      ROS_WARN("state for step %llu repeated: publishing its command again",
+               static_cast<unsigned long long>(msg.step));
+      if (last_cmd_) cmd_pub_.publish(last_cmd_);
+      return;
+    case SampleOutcome::Kind::kRejected:
+      logSequence(msg, o);
+      answerRejected(msg, o.why);
+      return;
+    case SampleOutcome::Kind::kStepFailed:
+      logSequence(msg, o);
+      fatal(std::string("controller step ") + std::to_string(msg.step) + " failed: " + o.why);
+      return;
+    case SampleOutcome::Kind::kStepped:
+      logSequence(msg, o);
+      publishStep(msg, &o.out);
+      return;
   }
-  ++steps_;
-  last_valid_step_ = msg.step;
-  last_valid_t_ = msg.t;
-  // The plant's last step: the silence after it is the end of the run, not stale input.
-  const bool last = msg.total_steps > 0 && msg.step + 1 >= msg.total_steps;
-  if (last && !run_over_)
+}
+
+void MracControllerNode::logSequence(const PlantState& msg, const SampleOutcome& o) {
+  if (o.restarted_after)
+    // One publisher's states arrive in order, so a step going back means a new plant run.
+    ROS_WARN("the plant restarted (step %llu after step %llu): controller reset",
+             static_cast<unsigned long long>(msg.step),
+             static_cast<unsigned long long>(*o.restarted_after));
+  if (o.missing)
+    ROS_WARN_THROTTLE(1.0, "states %llu .. %llu never arrived",
+                      static_cast<unsigned long long>(o.missing->first),
+                      static_cast<unsigned long long>(o.missing->second));
+  if (o.finished)
     ROS_INFO("the plant's last step (%llu) answered: the run has finished",
              static_cast<unsigned long long>(msg.step));
-  run_over_ = last;
-  if (stale_) {
-    stale_ = false;
+  if (o.stale_for) {
     ROS_INFO("valid state again (step %llu) after %.3f s stale: adapting again",
-             static_cast<unsigned long long>(msg.step), now - stale_since_);
+             static_cast<unsigned long long>(msg.step), *o.stale_for);
     updater_.force_update();
   }
+}
 
-  for (int i = 0; i < n; ++i) x_[i] = msg.x[static_cast<size_t>(i)];
-  x_last_valid_ = x_;
-  StepInput in;
-  in.t = msg.t;
-  in.x = &x_;
-  in.r = msg.r;
-  in.theta_true = theta;
-  // The elevator the plant applied over the last step (rate- and magnitude-limited, or the
-  // plant's hold): pa_robust identifies from it, as the batch loop does.
-  if (std::isfinite(msg.elevator)) in.u_applied = &msg.elevator;
-  StepOutput out;
-  try {
-    out = ctl_.step(in);
-  } catch (const std::exception& e) {
-    fatal(std::string("controller step ") + std::to_string(msg.step) + " failed: " + e.what());
-    return;
-  }
-  reconf_->recover(&out, x_, msg.step, msg.t);  // never a NaN command: the baseline instead
+void MracControllerNode::publishStep(const PlantState& msg, StepOutput* out) {
+  const int n = params_.run.plant.n();
+  reconf_->recover(out, seq_.x(), msg.step, msg.t);  // never a NaN command: the baseline instead
 
   // The command first: the plant waits for it. Messages are built once and never touched
   // after publishing (a nodelet in the same process gets the pointer).
@@ -345,55 +329,17 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   cmd->header.stamp = msg.header.stamp;
   cmd->step = msg.step;
   cmd->t = msg.t;
-  cmd->u = out.u;
-  cmd->u_baseline = out.u_baseline;
-  cmd->u_adaptive = out.u_adaptive;
+  cmd->u = out->u;
+  cmd->u_baseline = out->u_baseline;
+  cmd->u_adaptive = out->u_adaptive;
   cmd->safe = false;
   cmd->stale = false;
   last_cmd_ = cmd;
   cmd_pub_.publish(last_cmd_);
-  reconf_->afterStep(out, msg.step, msg.t, msg.header.stamp);
+  reconf_->afterStep(*out, msg.step, msg.t, msg.header.stamp);
 
-  if (out.saturated) ++saturated_;
-  if (out.event) {
-    if (out.event->type == Event::Type::kOnset) ++onsets_;
-    if (out.event->type == Event::Type::kRecovered) ++recoveries_;
-    if (out.event->reset) ++resets_;
-    if (out.event->type == Event::Type::kDecision) ++decision_events_;
-    const auto event = boost::make_shared<AttentionEvent>();
-    event->header.stamp = msg.header.stamp;
-    toMsg(*out.event, msg.step, event.get());
-    attention_pub_.publish(AttentionEvent::ConstPtr(event));
-    if (out.event->decision != Event::Decision::kNone) {
-      ++decisions_[static_cast<int>(out.event->decision)];
-      char buf[160];
-      std::snprintf(buf, sizeof(buf), "%s at t = %.3f s (score %.3g rad, keeping %.3g rad)",
-                    event->decision.c_str(), out.event->t, out.event->score, out.event->score_keep);
-      last_decision_ = buf;
-      const std::string which = out.event->decision == Event::Decision::kMemory
-                                    ? event->decision + " #" + std::to_string(out.event->chosen)
-                                    : event->decision;
-      char line[256];
-      std::snprintf(line, sizeof(line),
-                    "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
-                    "residual %.3g rad against %.3g rad keeping",
-                    out.event->t, eventTypeName(out.event->type), out.event->e, out.event->e_dot,
-                    which.c_str(), out.event->candidates, out.event->score, out.event->score_keep);
-      // pa_robust re-verifies every few ms inside a phase (dozens of DECISION events per
-      // switch): INFO when the choice is new in the phase, the same choice again is DEBUG.
-      const bool repeated = out.event->type == Event::Type::kDecision && which == logged_choice_;
-      logged_choice_ = which;
-      if (repeated)
-        ROS_DEBUG("%s", line);
-      else
-        ROS_INFO("%s", line);
-    } else {
-      logged_choice_.clear();
-      ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", out.event->t,
-               eventTypeName(out.event->type), out.event->e, out.event->e_dot,
-               out.event->learned ? ", network updated" : "");
-    }
-  }
+  if (out->saturated) ++saturated_;
+  if (out->event) publishEvent(msg, *out->event);
 
   const int oi = params_.run.plant.output_index;
   const auto status = boost::make_shared<AdaptationStatus>();
@@ -401,23 +347,62 @@ void MracControllerNode::process(const PlantState& msg, const Vec* theta) {
   status->step = msg.step;
   status->t = msg.t;
   status->mode = ctl_.mode().c_str();
-  status->x_ref.assign(out.x_ref.data(), out.x_ref.data() + n);
-  status->theta_hat.assign(out.theta_hat.data(), out.theta_hat.data() + n);
-  status->alpha_ref = out.x_ref[oi];
-  status->e = out.e;
-  status->e_dot_est = out.e_dot;
-  status->theta_hat_0 = n > 0 ? out.theta_hat[0] : 0.0;
-  status->theta_hat_1 = n > 1 ? out.theta_hat[1] : 0.0;
-  status->theta_hat_2 = n > 2 ? out.theta_hat[2] : 0.0;
+  status->x_ref.assign(out->x_ref.data(), out->x_ref.data() + n);
+  status->theta_hat.assign(out->theta_hat.data(), out->theta_hat.data() + n);
+  status->alpha_ref = out->x_ref[oi];
+  status->e = out->e;
+  status->e_dot_est = out->e_dot;
+  status->theta_hat_0 = n > 0 ? out->theta_hat[0] : 0.0;
+  status->theta_hat_1 = n > 1 ? out->theta_hat[1] : 0.0;
+  status->theta_hat_2 = n > 2 ? out->theta_hat[2] : 0.0;
   status->phase_active = ctl_.phaseActive();
   status->episodes = ctl_.network().state().episodes;
   status_pub_.publish(AdaptationStatus::ConstPtr(status));
 
-  if (out.event && out.event->learned && params_.save_every_episode)
+  if (out->event && out->event->learned && params_.save_every_episode)
     saveWeights("after a learning episode");
-  else if (out.event && out.event->type == Event::Type::kRecovered && ctl_.keepsAtRecovery() &&
+  else if (out->event && out->event->type == Event::Type::kRecovered && ctl_.keepsAtRecovery() &&
            params_.save_every_episode)
     saveWeights(("after a recovery (mode " + ctl_.mode() + " keeps what it learned)").c_str());
+}
+
+void MracControllerNode::publishEvent(const PlantState& msg, const Event& e) {
+  if (e.type == Event::Type::kOnset) ++onsets_;
+  if (e.type == Event::Type::kRecovered) ++recoveries_;
+  if (e.reset) ++resets_;
+  if (e.type == Event::Type::kDecision) ++decision_events_;
+  const auto event = boost::make_shared<AttentionEvent>();
+  event->header.stamp = msg.header.stamp;
+  toMsg(e, msg.step, event.get());
+  attention_pub_.publish(AttentionEvent::ConstPtr(event));
+  if (e.decision == Event::Decision::kNone) {
+    logged_choice_.clear();
+    ROS_INFO("t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s%s)", e.t, eventTypeName(e.type), e.e,
+             e.e_dot, e.learned ? ", network updated" : "");
+    return;
+  }
+  ++decisions_[static_cast<int>(e.decision)];
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "%s at t = %.3f s (score %.3g rad, keeping %.3g rad)",
+                event->decision.c_str(), e.t, e.score, e.score_keep);
+  last_decision_ = buf;
+  const std::string which = e.decision == Event::Decision::kMemory
+                                ? event->decision + " #" + std::to_string(e.chosen)
+                                : event->decision;
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "t = %.3f s: %s (e = %.5f rad, e_dot = %.5f rad/s): %s of %d candidates, "
+                "residual %.3g rad against %.3g rad keeping",
+                e.t, eventTypeName(e.type), e.e, e.e_dot, which.c_str(), e.candidates, e.score,
+                e.score_keep);
+  // pa_robust re-verifies every few ms inside a phase (dozens of DECISION events per
+  // switch): INFO when the choice is new in the phase, the same choice again is DEBUG.
+  const bool repeated = e.type == Event::Type::kDecision && which == logged_choice_;
+  logged_choice_ = which;
+  if (repeated)
+    ROS_DEBUG("%s", line);
+  else
+    ROS_INFO("%s", line);
 }
 
 void MracControllerNode::answerRejected(const PlantState& msg, const std::string& why) {
@@ -425,7 +410,7 @@ void MracControllerNode::answerRejected(const PlantState& msg, const std::string
                      "state for step %llu rejected (%s; %llu so far): answering with the "
                      "%s command of the last valid state",
                      static_cast<unsigned long long>(msg.step), why.c_str(),
-                     static_cast<unsigned long long>(state_guard_.rejected()),
+                     static_cast<unsigned long long>(seq_.guard().rejected()),
                      params_.stale_policy == StalePolicy::kZero ? "zero" : "baseline");
   // The plant still gets an answer for this step (lockstep would otherwise wait), but the
   // adaptive law, attention and learning do not see the sample.
@@ -437,7 +422,7 @@ void MracControllerNode::answerRejected(const PlantState& msg, const std::string
 ElevatorCommand::ConstPtr MracControllerNode::safeCommand(const ros::Time& stamp,
                                                           std::uint64_t step, double t,
                                                           bool stale) {
-  const double u = ctl_.safeCommand(x_last_valid_, params_.stale_policy);
+  const double u = seq_.safeCommand();
   const auto c = boost::make_shared<ElevatorCommand>();
   c->header.stamp = stamp;
   c->step = step;
@@ -477,28 +462,21 @@ bool MracControllerNode::plantLost() {
 void MracControllerNode::staleTimerCallback(const ros::TimerEvent&) {
   if (failed_ || plantLost()) return;
   const double now = staleNow();
-  // Before the first valid state there is nothing to hold (and no plant to command).
-  if (state_guard_.haveValid() && state_guard_.stale(now) && !run_over_) {
-    if (!stale_) {
-      stale_ = true;
-      ++stale_episodes_;
-      stale_since_ = now;
-      safe_step_ = std::max(safe_step_, last_step_);
+  if (const std::optional<StaleTick> tick = seq_.onTimer(now)) {
+    if (tick->began) {
+      const InputGuard& guard = seq_.guard();
       ROS_WARN(
           "no valid state on %s for %.3f s (~stale_timeout %.3f s; %llu rejected so far): "
           "publishing the %s command of step %llu, adaptation frozen",
-          state_sub_.getTopic().c_str(), state_guard_.age(now), params_.stale_timeout,
-          static_cast<unsigned long long>(state_guard_.rejected()),
+          state_sub_.getTopic().c_str(), guard.age(now), params_.stale_timeout,
+          static_cast<unsigned long long>(guard.rejected()),
           params_.stale_policy == StalePolicy::kZero ? "zero" : "baseline",
-          static_cast<unsigned long long>(last_valid_step_));
+          static_cast<unsigned long long>(seq_.lastValidStep()));
       updater_.force_update();
     }
-    // No controller step: theta_hat, attention and learning stay as they are.
-    safe_step_ = std::max(safe_step_ + 1, last_step_ + 1);
-    const double t = last_valid_t_ + static_cast<double>(safe_step_ - last_valid_step_) *
-                                         params_.run.controller.sample_time;
-    const ros::Time stamp = params_.clock == ClockMode::kLockstep ? ros::Time(t) : ros::Time::now();
-    cmd_pub_.publish(safeCommand(stamp, safe_step_, t, true));
+    const ros::Time stamp =
+        params_.clock == ClockMode::kLockstep ? ros::Time(tick->t) : ros::Time::now();
+    cmd_pub_.publish(safeCommand(stamp, tick->step, tick->t, true));
     ++stale_commands_;
   }
   updater_.update();
@@ -508,9 +486,9 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
   const double now = ros::Time::now().toSec();
   const auto decisions = [this](Event::Decision d) { return decisions_[static_cast<int>(d)]; };
   NodeStatus(stat)
-      .problem(stale_, diagnostic_msgs::DiagnosticStatus::ERROR,
+      .problem(seq_.stale(), diagnostic_msgs::DiagnosticStatus::ERROR,
                "stale input: publishing safe commands, adaptation frozen")
-      .problem(state_guard_.rejected() > 0, diagnostic_msgs::DiagnosticStatus::WARN,
+      .problem(seq_.guard().rejected() > 0, diagnostic_msgs::DiagnosticStatus::WARN,
                "malformed states rejected")
       .problem(input_guard_.dropped() > 0, diagnostic_msgs::DiagnosticStatus::WARN,
                "input from foreign publishers dropped (~accept_from)")
@@ -518,19 +496,19 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
                "reconfigure refused: " + reconf_->lastRefusal())
       .summarize("adapting")
       .rows({{"mode", ctl_.mode()},
-             {"stale", stale_},
-             {"stale time [s]", state_guard_.haveValid() ? state_guard_.age(now) : -1.0},
+             {"stale", seq_.stale()},
+             {"stale time [s]", seq_.guard().haveValid() ? seq_.guard().age(now) : -1.0},
              {"stale timeout [s]", params_.stale_timeout},
-             {"stale episodes", stale_episodes_},
+             {"stale episodes", seq_.staleEpisodes()},
              {"stale commands", stale_commands_},
              {"state rate [Hz]", state_rate_.update(states_received_, now)},
              {"states received", states_received_},
-             {"states accepted", state_guard_.accepted()},
-             {"states rejected", state_guard_.rejected()},
-             {"last rejection", state_guard_.lastRejection()},
+             {"states accepted", seq_.guard().accepted()},
+             {"states rejected", seq_.guard().rejected()},
+             {"last rejection", seq_.guard().lastRejection()},
              {"truths rejected", truth_guard_.rejected()},
-             {"gaps", gaps_},
-             {"controller steps", steps_},
+             {"gaps", seq_.gaps()},
+             {"controller steps", seq_.steps()},
              {"saturated steps", saturated_},
              {"onsets", onsets_},
              {"recoveries", recoveries_},
@@ -545,7 +523,7 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
              {"decisions network", decisions(Event::Decision::kNetwork)},
              {"last decision", last_decision_.empty() ? std::string("none") : last_decision_},
              {"episodes", ctl_.network().state().episodes},
-             {"plant restarts", plant_restarts_},
+             {"plant restarts", seq_.restarts()},
              {"reconfigure changes applied", reconf_->applied()},
              {"reconfigure requests refused", reconf_->refused()},
              {"last reconfigure refusal", reconf_->lastRefusal()}})

@@ -93,6 +93,19 @@ std::uint64_t parseSeed(const std::string& flag, const std::string& text) {
   }
 }
 
+int parseCount(const std::string& flag, const std::string& text, int max) {
+  const std::string bad =
+      flag + ": expected a whole number in 1.." + std::to_string(max) + ", got '" + text + "'";
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    throw UsageError(bad);
+  // Leading zeros dropped, so that the length bounds the value before stoull can overflow.
+  const size_t first = text.find_first_not_of('0');
+  if (first == std::string::npos || text.size() - first > 10) throw UsageError(bad);
+  const auto v = std::stoull(text.substr(first));
+  if (v > static_cast<std::uint64_t>(max)) throw UsageError(bad);
+  return static_cast<int>(v);
+}
+
 std::vector<std::string> splitTopLevel(const std::string& text) {
   std::vector<std::string> out;
   std::string cur;

@@ -93,6 +93,9 @@ std::string elevatorPresetPath(const std::string& flag, const std::string& prese
 
 double parseDouble(const std::string& flag, const std::string& text);
 std::uint64_t parseSeed(const std::string& flag, const std::string& text);
+/// \brief A count (scenarios, regimes, threads): a whole number in 1..max. Throws UsageError
+/// naming `flag` on 0, a negative number, one over `max` or anything that is not a number.
+int parseCount(const std::string& flag, const std::string& text, int max);
 /// \brief Split on commas that are not inside brackets ("0.1,[1,2,3]" -> 2 items).
 std::vector<std::string> splitTopLevel(const std::string& text);
 

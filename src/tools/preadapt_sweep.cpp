@@ -124,199 +124,223 @@ void mergeShards(const std::vector<std::string>& files, const std::vector<Expect
   std::cout << std::flush;
 }
 
+// What the command line asks for, checked.
+struct Options {
+  cli::RunRequest base;
+  std::vector<std::string> modes;
+  std::vector<std::uint64_t> seeds;
+  std::vector<Axis> axes;
+  unsigned jobs = 1;
+  std::optional<Shard> shard;
+  std::vector<std::string> merge_files;
+  bool no_wall_time = false;
+};
+
+// Parse and check the command line; false after printing --help. Throws cli::UsageError.
+bool parseOptions(int argc, char** argv, Options* opt) {
+  opt->jobs = std::max(1u, std::thread::hardware_concurrency());
+  CLI::App app{
+      "Runs the cartesian product of modes, seeds and every --grid axis on N threads (default: "
+      "all cores) and prints one JSON line per run, in a fixed order, each with a \"grid\" "
+      "object naming its settings and an \"index\". Exit code 2 on bad input. Example: "
+      "preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 --grid "
+      "controller.attention.c_e=0.003,0.005,0.01\n\nOn many machines: run the same command "
+      "with --shard K/N for K = 0..N-1 (one process each, anywhere), then the same command "
+      "with --merge and the N outputs: it prints what the unsharded sweep prints (byte for "
+      "byte with --no-wall-time). Exit code 1 when a run fails or the merge finds a run "
+      "missing, repeated or foreign.",
+      "preadapt_sweep"};
+  cli::RunOptionText text;
+  std::string modes_text, seeds_text, jobs_text;
+  std::vector<std::string> grids;
+  cli::addRunOptions(app, &opt->base, &text, true);
+  cli::addText(app, "--modes", &modes_text, "comma-separated modes: " + modeNames(", "));
+  cli::addText(app, "--mode", &modes_text, "the same as --modes");
+  cli::addText(app, "--seeds", &seeds_text, "network seeds: 1-20 or 1,5,9");
+  cli::addTexts(app, "--grid", &grids, "key=v1,v2,... (repeatable; the last axis runs fastest)");
+  cli::addText(app, "--jobs", &jobs_text, "threads (default: all cores)");
+  std::string shard_text;
+  cli::addText(app, "--shard", &shard_text,
+               "K/N: run only the runs whose index i has i mod N = K; K is 0-based (0..N-1), "
+               "so --shard 0/4 .. --shard 3/4 run the whole list once; lines keep their "
+               "index in the whole list");
+  app.add_option("--merge", opt->merge_files,
+                 "FILE...: run nothing; read the outputs of the N shards (any order; give the "
+                 "same sweep options as the shards) and print the unsharded output")
+      ->expected(-1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->type_name("FILE");
+  app.add_flag("--no-wall-time", opt->no_wall_time,
+               "leave wall_time_s out of each line, so the same sweep gives the same bytes");
+  if (!cli::parseCommandLine(app, argc, argv)) return false;
+  if (!shard_text.empty()) opt->shard = parseShard(shard_text);
+  if (opt->shard && !opt->merge_files.empty())
+    throw cli::UsageError("--shard and --merge: give one of them (--merge reads every shard)");
+  if (app.count("--scenario") == 0)
+    throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
+  cli::finishRunOptions(text, &opt->base);
+  if (!modes_text.empty())
+    for (const auto& m : cli::splitTopLevel(modes_text)) {
+      if (findMode(m) == nullptr)
+        throw cli::UsageError("--modes: unknown mode '" + m + "' (expected " +
+                              modeNames(", ", " or ") + ")");
+      opt->modes.push_back(m);
+    }
+  if (!seeds_text.empty()) opt->seeds = parseSeeds(seeds_text);
+  for (const auto& g : grids) {
+    const auto eq = g.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == g.size())
+      throw cli::UsageError("--grid '" + g + "': expected key=v1,v2,...");
+    opt->axes.push_back({g.substr(0, eq), cli::splitTopLevel(g.substr(eq + 1))});
+  }
+  if (!jobs_text.empty())
+    opt->jobs = static_cast<unsigned>(cli::parseCount("--jobs", jobs_text, 1024));
+  return true;
+}
+
+// One run of the list: the prepared run and its grid settings.
+struct Job {
+  cli::PreparedRun run;
+  std::vector<std::pair<std::string, std::string>> grid;
+};
+
+// The run list: modes x seeds x grid (last axis fastest). Every run is prepared (and so
+// validated) before any starts, so a bad grid value fails fast with exit code 2.
+std::vector<Job> buildRuns(const Options& opt) {
+  std::vector<Job> jobs;
+  std::vector<std::optional<std::string>> mode_list;
+  if (opt.modes.empty()) mode_list.push_back(std::nullopt);
+  for (const auto& m : opt.modes) mode_list.push_back(m);
+  std::vector<std::optional<std::uint64_t>> seed_list;
+  if (opt.seeds.empty()) seed_list.push_back(std::nullopt);
+  for (auto s : opt.seeds) seed_list.push_back(s);
+  size_t grid_count = 1;
+  for (const auto& ax : opt.axes) grid_count *= ax.values.size();
+  for (const auto& m : mode_list)
+    for (const auto& s : seed_list)
+      for (size_t g = 0; g < grid_count; ++g) {
+        cli::RunRequest req = opt.base;
+        req.mode = m;
+        req.seed = s;
+        Job job;
+        size_t rest = g;
+        for (auto it = opt.axes.rbegin(); it != opt.axes.rend(); ++it) {
+          const std::string& v = it->values[rest % it->values.size()];
+          rest /= it->values.size();
+          job.grid.insert(job.grid.begin(), {it->key, v});
+        }
+        for (const auto& kv : job.grid) req.sets.push_back(kv.first + "=" + kv.second);
+        job.run = cli::prepare(req);
+        jobs.push_back(std::move(job));
+      }
+  return jobs;
+}
+
+// --merge: the shards' outputs checked against the run list and printed as one.
+int merge(const Options& opt, const std::vector<Job>& jobs) {
+  std::vector<Expected> expected;
+  for (const auto& job : jobs) expected.push_back({job.run.info.mode, job.run.info.seed, job.grid});
+  try {
+    mergeShards(opt.merge_files, expected);
+  } catch (const MergeError& e) {
+    std::cerr << "preadapt_sweep: error: --merge: " << e.what() << std::endl;
+    return 1;
+  }
+  return 0;
+}
+
+// Run `i` of the list: its JSON line (index, grid, then the run's summary).
+std::string runOne(const Options& opt, size_t i, Job* job, SimResult* res) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<Controller> ctl;
+  *res = cli::execute(job->run, false, &ctl);
+  job->run.info.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  nlohmann::ordered_json out;
+  out["index"] = i;
+  out["grid"] = nlohmann::ordered_json::object();
+  for (const auto& kv : job->grid) out["grid"][kv.first] = kv.second;
+  // A named summary: items() of a temporary would refer to it after its end (it crashed here).
+  const auto summary = runSummary(job->run.info, *ctl, *res);
+  for (const auto& kv : summary.items())
+    if (!(opt.no_wall_time && kv.key() == "wall_time_s")) out[kv.key()] = kv.value();
+  return out.dump();
+}
+
+// This shard's runs (all without --shard) on opt.jobs threads, their lines printed in index
+// order as they complete, then the runs that left the flight envelope on stderr.
+int runSweep(const Options& opt, std::vector<Job>* jobs) {
+  // This shard's runs, by their index in the whole list.
+  std::vector<size_t> mine;
+  for (size_t i = 0; i < jobs->size(); ++i)
+    if (!opt.shard || i % opt.shard->n == opt.shard->k) mine.push_back(i);
+  std::vector<std::string> lines(mine.size());
+  std::vector<char> ready(mine.size(), 0);
+  std::atomic<size_t> next{0};
+  std::mutex mu;
+  std::condition_variable cv;
+  std::string failure;
+  std::vector<std::pair<size_t, std::string>> exits;  // runs that left the envelope
+  auto worker = [&] {
+    for (;;) {
+      const size_t slot = next.fetch_add(1);
+      if (slot >= mine.size()) return;
+      const size_t i = mine[slot];
+      Job& job = (*jobs)[i];
+      std::string line;
+      try {
+        SimResult res;
+        line = runOne(opt, i, &job, &res);
+        if (res.envelope_exit.exited) {
+          std::lock_guard<std::mutex> lk(mu);
+          exits.emplace_back(i, "run " + std::to_string(i) + " (mode " + job.run.info.mode +
+                                    ", seed " + std::to_string(job.run.info.seed) +
+                                    "): " + cli::envelopeNote(res.envelope_exit));
+        }
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lk(mu);
+        if (failure.empty()) failure = "run " + std::to_string(i) + ": " + e.what();
+      }
+      {
+        std::lock_guard<std::mutex> lk(mu);
+        lines[slot] = std::move(line);
+        ready[slot] = 1;
+      }
+      cv.notify_all();
+    }
+  };
+  std::vector<std::thread> pool;
+  const unsigned n_threads = std::min<unsigned>(opt.jobs, static_cast<unsigned>(mine.size()));
+  for (unsigned t = 0; t < n_threads; ++t) pool.emplace_back(worker);
+  // Print in index order as runs complete, so output streams and stays deterministic.
+  for (size_t i = 0; i < mine.size(); ++i) {
+    std::unique_lock<std::mutex> lk(mu);
+    cv.wait(lk, [&] { return ready[i] != 0; });
+    if (!lines[i].empty()) std::cout << lines[i] << '\n' << std::flush;
+  }
+  for (auto& t : pool) t.join();
+  if (!failure.empty()) {
+    std::cerr << "preadapt_sweep: error: " << failure << std::endl;
+    return 1;
+  }
+  // The summary (stdout stays the JSON lines, whose envelope_exit says the same per run).
+  if (!exits.empty()) {
+    std::sort(exits.begin(), exits.end());
+    std::cerr << "preadapt_sweep: " << exits.size() << " of " << mine.size()
+              << " run(s) left the flight envelope:\n";
+    for (const auto& e : exits) std::cerr << "  " << e.second << '\n';
+    std::cerr << std::flush;
+  }
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   return cli::runTool("preadapt_sweep", [&]() -> int {
-    cli::RunRequest base;
-    std::vector<std::string> modes;
-    std::vector<std::uint64_t> seeds;
-    std::vector<Axis> axes;
-    unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-    CLI::App app{
-        "Runs the cartesian product of modes, seeds and every --grid axis on N threads (default: "
-        "all cores) and prints one JSON line per run, in a fixed order, each with a \"grid\" "
-        "object naming its settings and an \"index\". Exit code 2 on bad input. Example: "
-        "preadapt_sweep --scenario 1 --modes rac,pa_learn --seeds 1-20 --grid "
-        "controller.attention.c_e=0.003,0.005,0.01\n\nOn many machines: run the same command "
-        "with --shard K/N for K = 0..N-1 (one process each, anywhere), then the same command "
-        "with --merge and the N outputs: it prints what the unsharded sweep prints (byte for "
-        "byte with --no-wall-time). Exit code 1 when a run fails or the merge finds a run "
-        "missing, repeated or foreign.",
-        "preadapt_sweep"};
-    cli::RunOptionText text;
-    std::string modes_text, seeds_text, jobs_text;
-    std::vector<std::string> grids;
-    cli::addRunOptions(app, &base, &text, true);
-    cli::addText(app, "--modes", &modes_text, "comma-separated modes: " + modeNames(", "));
-    cli::addText(app, "--mode", &modes_text, "the same as --modes");
-    cli::addText(app, "--seeds", &seeds_text, "network seeds: 1-20 or 1,5,9");
-    cli::addTexts(app, "--grid", &grids, "key=v1,v2,... (repeatable; the last axis runs fastest)");
-    cli::addText(app, "--jobs", &jobs_text, "threads (default: all cores)");
-    std::string shard_text;
-    std::vector<std::string> merge_files;
-    bool no_wall_time = false;
-    cli::addText(app, "--shard", &shard_text,
-                 "K/N: run only the runs whose index i has i mod N = K; K is 0-based (0..N-1), "
-                 "so --shard 0/4 .. --shard 3/4 run the whole list once; lines keep their "
-                 "index in the whole list");
-    app.add_option("--merge", merge_files,
-                   "FILE...: run nothing; read the outputs of the N shards (any order; give the "
-                   "same sweep options as the shards) and print the unsharded output")
-        ->expected(-1)
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-        ->type_name("FILE");
-    app.add_flag("--no-wall-time", no_wall_time,
-                 "leave wall_time_s out of each line, so the same sweep gives the same bytes");
-    if (!cli::parseCommandLine(app, argc, argv)) return 0;
-    std::optional<Shard> shard;
-    if (!shard_text.empty()) shard = parseShard(shard_text);
-    if (shard && !merge_files.empty())
-      throw cli::UsageError("--shard and --merge: give one of them (--merge reads every shard)");
-    if (app.count("--scenario") == 0)
-      throw cli::UsageError("--scenario is required (1, 2, 3 or a YAML path)");
-    cli::finishRunOptions(text, &base);
-    if (!modes_text.empty())
-      for (const auto& m : cli::splitTopLevel(modes_text)) {
-        if (findMode(m) == nullptr)
-          throw cli::UsageError("--modes: unknown mode '" + m + "' (expected " +
-                                modeNames(", ", " or ") + ")");
-        modes.push_back(m);
-      }
-    if (!seeds_text.empty()) seeds = parseSeeds(seeds_text);
-    for (const auto& g : grids) {
-      const auto eq = g.find('=');
-      if (eq == std::string::npos || eq == 0 || eq + 1 == g.size())
-        throw cli::UsageError("--grid '" + g + "': expected key=v1,v2,...");
-      axes.push_back({g.substr(0, eq), cli::splitTopLevel(g.substr(eq + 1))});
-    }
-    if (!jobs_text.empty()) {
-      const auto j = cli::parseSeed("--jobs", jobs_text);
-      if (j < 1 || j > 1024) throw cli::UsageError("--jobs: expected 1..1024");
-      jobs = static_cast<unsigned>(j);
-    }
-
-    // Build the run list: modes x seeds x grid (last axis fastest). Prepare (and so validate)
-    // every run before starting any, so a bad grid value fails fast with exit code 2.
-    struct Job {
-      cli::PreparedRun run;
-      std::vector<std::pair<std::string, std::string>> grid;
-    };
-    std::vector<Job> jobs_list;
-    std::vector<std::optional<std::string>> mode_list;
-    if (modes.empty()) mode_list.push_back(std::nullopt);
-    for (const auto& m : modes) mode_list.push_back(m);
-    std::vector<std::optional<std::uint64_t>> seed_list;
-    if (seeds.empty()) seed_list.push_back(std::nullopt);
-    for (auto s : seeds) seed_list.push_back(s);
-    size_t grid_count = 1;
-    for (const auto& ax : axes) grid_count *= ax.values.size();
-    for (const auto& m : mode_list)
-      for (const auto& s : seed_list)
-        for (size_t g = 0; g < grid_count; ++g) {
-          cli::RunRequest req = base;
-          req.mode = m;
-          req.seed = s;
-          Job job;
-          size_t rest = g;
-          std::vector<std::string> extra;
-          for (auto it = axes.rbegin(); it != axes.rend(); ++it) {
-            const std::string& v = it->values[rest % it->values.size()];
-            rest /= it->values.size();
-            job.grid.insert(job.grid.begin(), {it->key, v});
-          }
-          for (const auto& kv : job.grid) req.sets.push_back(kv.first + "=" + kv.second);
-          job.run = cli::prepare(req);
-          jobs_list.push_back(std::move(job));
-        }
-
-    if (!merge_files.empty()) {
-      std::vector<Expected> expected;
-      for (const auto& job : jobs_list)
-        expected.push_back({job.run.info.mode, job.run.info.seed, job.grid});
-      try {
-        mergeShards(merge_files, expected);
-      } catch (const MergeError& e) {
-        std::cerr << "preadapt_sweep: error: --merge: " << e.what() << std::endl;
-        return 1;
-      }
-      return 0;
-    }
-    // This shard's runs, by their index in the whole list.
-    std::vector<size_t> mine;
-    for (size_t i = 0; i < jobs_list.size(); ++i)
-      if (!shard || i % shard->n == shard->k) mine.push_back(i);
-
-    std::vector<std::string> lines(mine.size());
-    std::vector<char> ready(mine.size(), 0);
-    std::atomic<size_t> next{0};
-    std::mutex mu;
-    std::condition_variable cv;
-    std::string failure;
-    std::vector<std::pair<size_t, std::string>> exits;  // runs that left the envelope
-    auto worker = [&] {
-      for (;;) {
-        const size_t slot = next.fetch_add(1);
-        if (slot >= mine.size()) return;
-        const size_t i = mine[slot];
-        Job& job = jobs_list[i];
-        std::string line;
-        try {
-          const auto t0 = std::chrono::steady_clock::now();
-          std::unique_ptr<Controller> ctl;
-          SimResult res = cli::execute(job.run, false, &ctl);
-          job.run.info.wall_time_s =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          nlohmann::ordered_json out;
-          out["index"] = i;
-          out["grid"] = nlohmann::ordered_json::object();
-          for (const auto& kv : job.grid) out["grid"][kv.first] = kv.second;
-          // A named summary: items() of a temporary would refer to it after its end (it
-          // crashed here).
-          const auto summary = runSummary(job.run.info, *ctl, res);
-          for (const auto& kv : summary.items())
-            if (!(no_wall_time && kv.key() == "wall_time_s")) out[kv.key()] = kv.value();
-          line = out.dump();
-          if (res.envelope_exit.exited) {
-            std::lock_guard<std::mutex> lk(mu);
-            exits.emplace_back(i, "run " + std::to_string(i) + " (mode " + job.run.info.mode +
-                                      ", seed " + std::to_string(job.run.info.seed) +
-                                      "): " + cli::envelopeNote(res.envelope_exit));
-          }
-        } catch (const std::exception& e) {
-          std::lock_guard<std::mutex> lk(mu);
-          if (failure.empty()) failure = "run " + std::to_string(i) + ": " + e.what();
-        }
-        {
-          std::lock_guard<std::mutex> lk(mu);
-          lines[slot] = std::move(line);
-          ready[slot] = 1;
-        }
-        cv.notify_all();
-      }
-    };
-    std::vector<std::thread> pool;
-    const unsigned n_threads = std::min<unsigned>(jobs, static_cast<unsigned>(mine.size()));
-    for (unsigned t = 0; t < n_threads; ++t) pool.emplace_back(worker);
-    // Print in index order as runs complete, so output streams and stays deterministic.
-    for (size_t i = 0; i < mine.size(); ++i) {
-      std::unique_lock<std::mutex> lk(mu);
-      cv.wait(lk, [&] { return ready[i] != 0; });
-      if (!lines[i].empty()) std::cout << lines[i] << '\n' << std::flush;
-    }
-    for (auto& t : pool) t.join();
-    if (!failure.empty()) {
-      std::cerr << "preadapt_sweep: error: " << failure << std::endl;
-      return 1;
-    }
-    // The summary (stdout stays the JSON lines, whose envelope_exit says the same per run).
-    if (!exits.empty()) {
-      std::sort(exits.begin(), exits.end());
-      std::cerr << "preadapt_sweep: " << exits.size() << " of " << mine.size()
-                << " run(s) left the flight envelope:\n";
-      for (const auto& e : exits) std::cerr << "  " << e.second << '\n';
-      std::cerr << std::flush;
-    }
-    return 0;
+    Options opt;
+    if (!parseOptions(argc, argv, &opt)) return 0;
+    std::vector<Job> jobs = buildRuns(opt);
+    if (!opt.merge_files.empty()) return merge(opt, jobs);
+    return runSweep(opt, &jobs);
   });
 }

@@ -592,6 +592,31 @@ TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   EXPECT_EQ(runTool("--seed 1 --set controller.robust.margin=2", &out), 2);
   EXPECT_NE(out.find("controller.robust.margin"), std::string::npos) << out;
 }
+
+// --count, --regimes, --segments and --jobs are counts: a whole number from 1 to the flag's
+// limit. A number past the int range is refused, not wrapped (4294967297 regimes is not 1).
+TEST(FamilyTool, ParsesCountsAsCounts) {
+  std::string out;
+  const std::pair<std::string, std::string> cases[] = {
+      {"--count 0", "--count: expected a whole number in 1..100000, got '0'"},
+      {"--count=-3", "--count: expected a whole number in 1..100000, got '-3'"},
+      {"--count 2x", "--count: expected a whole number in 1..100000, got '2x'"},
+      {"--count 1 --regimes 4294967297",
+       "--regimes: expected a whole number in 1..50, got '4294967297'"},
+      {"--count 1 --segments 4294967306",
+       "--segments: expected a whole number in 1..1000, got '4294967306'"},
+      {"--count 1 --jobs 0", "--jobs: expected a whole number in 1..1024, got '0'"},
+      {"--count 1 --jobs 18446744073709551617",
+       "--jobs: expected a whole number in 1..1024, got '18446744073709551617'"},
+  };
+  for (const auto& c : cases) {
+    EXPECT_EQ(runTool("--seed 1 --modes rac " + c.first, &out), 2) << c.first << "\n" << out;
+    EXPECT_NE(out.find(c.second), std::string::npos) << c.first << "\n" << out;
+  }
+  EXPECT_EQ(runTool("--seed 1 --modes rac --count 01 --regimes 2 --segments 4 --jobs 1", &out), 0)
+      << out;
+  EXPECT_NE(out.find("1 scenarios, 2 regimes, 4 segments"), std::string::npos) << out;
+}
 #endif
 
 // Issue 36: the true plant of --mismatch M: the alpha and q rows of A and B scaled per entry by

@@ -13,6 +13,7 @@
 
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_log.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_paths.hpp"
 
 namespace preadaptive_mrac {
 
@@ -31,15 +32,6 @@ struct JsbsimLaunch {
   double dt = 0.001;                            ///< JSBSim's frame [s]
   double timeout = 10.0;                        ///< start-up and reply timeout [s]
 };
-
-/// \brief The JSBSim binary to run: `configured` when not empty (it must be executable), else
-/// the first of $PMRAC_JSBSIM, /usr/games/JSBSim and the build folder's jsbsim/bin/JSBSim
-/// (scripts/install_jsbsim). Throws JsbsimError naming the places tried and the fix.
-std::string findJsbsimExecutable(const std::string& configured);
-/// \brief JSBSim's --root: `configured` when not empty, else the package's
-/// share/preadaptive_mrac/jsbsim found from the running executable (as config/ is), else
-/// ./jsbsim. Throws JsbsimError when the aircraft folder is not there.
-std::string findJsbsimRoot(const std::string& configured, const std::string& aircraft);
 
 /// \brief One JSBSim process in socket lockstep, held between steps.
 ///

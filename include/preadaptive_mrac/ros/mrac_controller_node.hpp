@@ -20,6 +20,7 @@
 #include "preadaptive_mrac/PlantTruth.h"
 #include "preadaptive_mrac/core/control/input_guard.hpp"
 #include "preadaptive_mrac/core/controller/controller.hpp"
+#include "preadaptive_mrac/core/step_sequencer.hpp"
 #include "preadaptive_mrac/ros/attention_msg.hpp"
 #include "preadaptive_mrac/ros/node_context.hpp"
 #include "preadaptive_mrac/ros/node_params.hpp"
@@ -58,8 +59,17 @@ class MracControllerNode {
   void truthCallback(const ros::MessageEvent<PlantTruth const>& event);
   /// \brief States waiting for their truth, in order, as far as the truth has arrived.
   void drainPending();
-  /// \brief One controller step for a state (theta: its truth, or nullptr).
+  /// \brief A state through the step sequencer (theta: its truth, or nullptr), then its
+  /// answer published and the sequence's news logged.
   void process(const PlantState& msg, const Vec* theta);
+  /// \brief What the sequencer noticed about the order of the states (restart, gap, the
+  /// plant's last step, valid again after stale input), logged.
+  void logSequence(const PlantState& msg, const SampleOutcome& o);
+  /// \brief A controller step's answer: the command, its event, the status; the weights
+  /// saved after a learning episode (~save_every_episode).
+  void publishStep(const PlantState& msg, StepOutput* out);
+  /// \brief An attention event: counted, published and logged.
+  void publishEvent(const PlantState& msg, const Event& e);
   /// \brief Answer a rejected state with the safe command (~stale_policy) of the last valid one.
   void answerRejected(const PlantState& msg, const std::string& why);
   /// \brief Every sample time: with no valid state for ~stale_timeout, publish the safe
@@ -83,6 +93,7 @@ class MracControllerNode {
   ros::NodeHandle nh_;
   ControllerNodeParams params_;
   Controller ctl_;
+  StepSequencer seq_;  ///< the states' order, validity and staleness, and the controller step
   ros::Publisher cmd_pub_, attention_pub_, status_pub_;
   ros::Publisher ready_pub_;  ///< controller/ready, latched true once states are taken
   ros::Subscriber state_sub_, truth_sub_;
@@ -94,29 +105,20 @@ class MracControllerNode {
   std::string state_topic_, truth_topic_;  ///< resolved, for the guard's warnings
 
   ElevatorCommand::ConstPtr last_cmd_;  ///< the answer to the last state (sent again on a repeat)
-  Vec x_, x_last_valid_;
-  InputGuard state_guard_, truth_guard_;
+  InputGuard truth_guard_;
 
-  bool dt_checked_ = false, failed_ = false, finished_ = false;
-  bool have_last_ = false;
-  std::uint64_t last_step_ = 0;
-  std::int64_t gaps_ = 0, steps_ = 0, episodes_saved_ = -1;
+  bool failed_ = false, finished_ = false;
+  std::int64_t episodes_saved_ = -1;
 
   // Staleness: ~clock lockstep measures it in the states' stamps (simulation time, so a
   // lockstep plant that pauses does not make the controller stale, and no ROS clock shared
   // with other runs is involved); realtime in ROS time.
-  bool stale_ = false;
   double latest_stamp_ = 0.0;  ///< lockstep: stamp [s] of the latest state received
   double last_receipt_ = 0.0;  ///< ROS time [s] the latest admitted state (valid or not) came
   /// \brief Now for the staleness check [s]: the latest state's stamp in lockstep, else ROS time.
   double staleNow() const;
-  std::uint64_t last_valid_step_ = 0;  ///< step of the last valid state
-  double last_valid_t_ = 0.0;          ///< its sample time [s]
-  std::uint64_t safe_step_ = 0;        ///< step of the last command from the staleness timer
-  double stale_since_ = 0.0;           ///< ROS time [s] the input went stale
-  std::int64_t stale_commands_ = 0, stale_episodes_ = 0, rejected_answers_ = 0;
+  std::int64_t stale_commands_ = 0, rejected_answers_ = 0;
   std::int64_t states_received_ = 0, saturated_ = 0, onsets_ = 0, resets_ = 0, recoveries_ = 0;
-  std::int64_t plant_restarts_ = 0;
   RateMeter state_rate_;  ///< states per second of ROS time, for the diagnostics
 
   // pa_robust's verifications, for the diagnostics.
@@ -125,9 +127,6 @@ class MracControllerNode {
   std::string last_decision_;                ///< e.g. "fit at t = 45.052 s (score ...)"
   /// the choice ("fit", "memory #2", ...) last logged at INFO in this phase ("" after a
   /// recovery, onset or other event without a verification): a repeat is logged at DEBUG
-  /// the last valid state was the plant's last step (step + 1 == total_steps): no stale
-  /// commands after it; a later state (a restarted plant) clears it
-  bool run_over_ = false;
   std::string logged_choice_;
 
   /// dynamic_reconfigure (~reconfigure) and controller/param_change (issue 11).

@@ -7,6 +7,6 @@ run). scripts/<name>_study are their entry points.
 
 def family_noise_seed(seed, scenario):
     """The noise seed preadapt_family gives scenario `scenario` of the family `seed` (its
-    src/tools/preadapt_family.cpp), so that a study re-running one scenario draws the same
+    src/tools/family_draw.cpp), so that a study re-running one scenario draws the same
     noise."""
     return seed * 1000003 + scenario
