@@ -281,16 +281,20 @@ void writeFile(const std::filesystem::path& path, const std::string& text) {
 
 /// The package's aircraft renamed `name`, its fcs/pmrac-* and pmrac/* properties renamed so
 /// that it loads and flies but lacks the package's interface (as JSBSim's own aircraft do).
-void addAircraftWithoutInterface(const std::filesystem::path& root, const std::string& name) {
+/// b747_pmrac renamed `name`, without the package's properties (`keep_command`: all but
+/// fcs/pmrac-elevator-cmd-rad).
+void addAircraftWithoutInterface(const std::filesystem::path& root, const std::string& name,
+                                 bool keep_command = false) {
   const std::filesystem::path from = root / "aircraft/b747_pmrac";
   std::ifstream in(from / "b747_pmrac.xml");
   std::stringstream ss;
   ss << in.rdbuf();
   std::string xml = ss.str();
-  for (const auto& [a, b] : std::vector<std::pair<std::string, std::string>>{
-           {"fcs/pmrac-elevator-cmd-rad", "fcs/other-elevator-cmd-rad"},
-           {"pmrac/", "other/"},
-           {"name=\"b747_pmrac\"", "name=\"" + name + "\""}})
+  std::vector<std::pair<std::string, std::string>> renames = {
+      {"pmrac/", "other/"}, {"name=\"b747_pmrac\"", "name=\"" + name + "\""}};
+  if (!keep_command)
+    renames.insert(renames.begin(), {"fcs/pmrac-elevator-cmd-rad", "fcs/other-elevator-cmd-rad"});
+  for (const auto& [a, b] : renames)
     for (size_t at = xml.find(a); at != std::string::npos; at = xml.find(a, at + b.size()))
       xml.replace(at, a.size(), b);
   std::filesystem::create_directories(root / "aircraft" / name);
@@ -338,11 +342,19 @@ TEST(JsbsimFailure, AnAircraftThatDoesNotLoadFailsFastNamingTheCause) {
   p.aircraft = "737";
   expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft", "no aircraft '737'");
 
-  // An aircraft that loads but lacks the package's interface: JSBSim refuses the first of the
-  // package's properties (and would leave the rest of that packet unanswered).
+  // An ordinary aircraft (none of the package's properties) gets the interface from a
+  // generated overlay, but this one's elevator comes from an <fcs_function> the package cannot
+  // follow back to fcs/elevator-cmd-norm: refused before JSBSim starts, naming the fix.
   addAircraftWithoutInterface(root, "737");
+  expectNamedFast(failToLoad(p), "plant.jsbsim.elevator",
+                  "cannot follow it back to fcs/elevator-cmd-norm");
+  // An aircraft that names the package's command (so is taken as written for the package) but
+  // lacks the rest of the interface: JSBSim refuses the first missing property (and would
+  // leave the rest of that packet unanswered).
+  p.aircraft = "767";
+  addAircraftWithoutInterface(root, "767", true);
   expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft",
-                  "has no property fcs/pmrac-elevator-cmd-rad");
+                  "has no property pmrac/fault/elevator-effectiveness");
 
   // No such initial condition.
   p.aircraft = "b747_pmrac";
