@@ -280,9 +280,8 @@ void writeFile(const std::filesystem::path& path, const std::string& text) {
 }
 
 /// The package's aircraft renamed `name`, its fcs/pmrac-* and pmrac/* properties renamed so
-/// that it loads and flies but lacks the package's interface (as JSBSim's own aircraft do).
-/// b747_pmrac renamed `name`, without the package's properties (`keep_command`: all but
-/// fcs/pmrac-elevator-cmd-rad).
+/// that it loads and flies but lacks the package's interface (as JSBSim's own aircraft do;
+/// `keep_command`: all but fcs/pmrac-elevator-cmd-rad).
 void addAircraftWithoutInterface(const std::filesystem::path& root, const std::string& name,
                                  bool keep_command = false) {
   const std::filesystem::path from = root / "aircraft/b747_pmrac";
@@ -372,6 +371,29 @@ TEST(JsbsimFailure, AnAircraftThatDoesNotLoadFailsFastNamingTheCause) {
   std::filesystem::remove(root / "engine/pmrac_thrust.xml");
   expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft, plant.jsbsim.root",
                   "Could not open file: pmrac_thrust");
+  std::filesystem::remove_all(root);
+}
+
+TEST(Jsbsim, AnAircraftWithoutTheInterfaceFliesAtTheSurface) {
+  // b747_pmrac without its interface, flown through a generated overlay with the package's
+  // deflection added at the surface (its elevator is an <fcs_function> the command drive cannot
+  // scale): the same aircraft, so the same trim and the same sign.
+  const RunConfig cfg = jsbsimConfig();
+  JsbsimParams p = cfg.plant.jsbsim;
+  const std::filesystem::path root = copyOfTheRoot("surface_drive");
+  addAircraftWithoutInterface(root, "737");
+  p.root = root.string();
+  p.aircraft = "737";
+  p.elevator = JsbsimElevatorDrive::kSurface;
+  {
+    JsbsimPlant plant(p, 0.001, 0.0);
+    EXPECT_TRUE(plant.overlay().generated());
+    EXPECT_NEAR(plant.trim().alpha / kDeg, 4.4525, 0.01);  // b747_pmrac's (jsbsim/README.md)
+    const Vec theta = Vec::Zero(3);
+    for (int k = 0; k < 100; ++k) plant.step(0.001, theta, 0.01, 0.0, 0.0);
+    EXPECT_LT(plant.state()[2], -1e-3);
+  }
+  EXPECT_TRUE(noChildLeft());
   std::filesystem::remove_all(root);
 }
 
