@@ -453,6 +453,7 @@ JsbsimElevator findJsbsimElevator(const std::string& root, const std::string& ai
 }
 
 std::optional<JsbsimElevator> jsbsimOrdinaryElevator(const JsbsimParams& params) {
+  findJsbsimExecutable(params.executable);  // a missing JSBSim is said first, as by the plant
   const std::string root = findJsbsimRoot(params.root, params.aircraft);
   const fs::path file = fs::path(root) / "aircraft" / params.aircraft / (params.aircraft + ".xml");
   if (jsbsimHasInterface(readText(file))) return std::nullopt;

@@ -42,7 +42,8 @@ JsbsimElevator findJsbsimElevator(const std::string& root, const std::string& ai
 
 /// \brief The elevator of the aircraft of `params` (its root found as findJsbsimRoot does) when
 /// it lacks the package's interface, else nothing (b747_pmrac: the package knows its elevator
-/// from config/plant/elevator_b747.yaml). Throws JsbsimError as findJsbsimElevator does.
+/// from config/plant/elevator_b747.yaml). Throws JsbsimError as findJsbsimExecutable,
+/// findJsbsimRoot and findJsbsimElevator do.
 std::optional<JsbsimElevator> jsbsimOrdinaryElevator(const JsbsimParams& params);
 
 /// \brief The root JSBSim is started on: the user's own (an aircraft with the interface), or a
