@@ -68,7 +68,9 @@ pmrac_library(preadaptive_mrac_jsbsim
   src/jsbsim/jsbsim_paths.cpp
   src/jsbsim/jsbsim_process.cpp
   src/jsbsim/jsbsim_plant.cpp
-  src/jsbsim/jsbsim_linearise.cpp)
+  src/jsbsim/jsbsim_linearise.cpp
+  src/jsbsim/jsbsim_xml.cpp
+  src/jsbsim/jsbsim_overlay.cpp)
 target_link_libraries(preadaptive_mrac_jsbsim PUBLIC preadaptive_mrac_core)
 target_link_libraries(preadaptive_mrac_jsbsim_static PUBLIC preadaptive_mrac_core_static)
 # The plant engines beside the linear model, for `target`: STATIC (a batch tool linked

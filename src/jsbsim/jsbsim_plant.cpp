@@ -33,12 +33,19 @@ const char kReadPacketShort[] =
 // A read that keeps coming mid-step this often is no longer a race but a broken lockstep.
 constexpr int kMaxRereads = 100000;
 
-JsbsimLaunch launchOf(const JsbsimParams& p, double dt) {
+/// The root the aircraft is under (JSBSim's binary looked for first, so a missing binary is
+/// the first thing said).
+std::string aircraftRoot(const JsbsimParams& p) {
+  findJsbsimExecutable(p.executable);
+  return findJsbsimRoot(p.root, p.aircraft);
+}
+
+JsbsimLaunch launchOf(const JsbsimParams& p, double dt, const JsbsimOverlay& overlay) {
   JsbsimLaunch l;
   l.executable = p.executable;
-  l.root = p.root;
+  l.root = overlay.root();
   l.aircraft = p.aircraft;
-  l.initialize = p.initialize;
+  l.initialize = overlay.initialize();
   l.dt = dt;
   l.timeout = p.timeout;
   return l;
@@ -56,7 +63,8 @@ JsbsimPlant::JsbsimPlant(const JsbsimParams& params, double dt, double e_i0)
     : params_(params),
       dt_(dt),
       e_i0_(e_i0),
-      proc_(launchOf(params, dt)),
+      overlay_(aircraftRoot(params), params),
+      proc_(launchOf(params, dt, overlay_)),
       refs_{{{"pmrac/ref/theta-rad", &theta_, 1e-4},
              {"pmrac/ref/gamma-rad", &gamma_, 1e-4},
              {"pmrac/ref/q-rad_sec", &q_, 1e-4},
@@ -143,6 +151,14 @@ void JsbsimPlant::reset() {
   wind_sent_ = false;
   de_ = 0.0;
   flight_ = {theta_, vt_ * kFt, h_ * kFt, gamma_};
+}
+
+void JsbsimPlant::setFaults(const PhysicalFaults& faults) {
+  if (overlay_.generated() && faults != PhysicalFaults{})
+    throw JsbsimError("scenario.faults: the aircraft '" + params_.aircraft +
+                      "' has no fault model (the pmrac/fault/* properties act only in an aircraft "
+                      "written for the package, such as b747_pmrac): leave scenario.faults out");
+  faults_ = faults;
 }
 
 bool JsbsimPlant::takeRead(const std::vector<std::string>& r, size_t at,

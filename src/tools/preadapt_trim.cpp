@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "cli_common.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_linearise.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_overlay.hpp"
 
 using namespace preadaptive_mrac;
 
@@ -24,6 +26,18 @@ std::string num(double v) {
 }
 
 constexpr double kDeg = 180.0 / M_PI;
+
+/// The plant.jsbsim keys a plant file needs beyond the aircraft and the operating point:
+/// those not at their defaults.
+std::string jsbsimKeys(const JsbsimParams& p) {
+  const JsbsimParams d;
+  std::string out;
+  if (p.root != d.root)
+    out += ", root: \"" + std::filesystem::absolute(p.root).lexically_normal().string() + "\"";
+  if (p.initialize != d.initialize) out += ", initialize: " + p.initialize;
+  if (p.elevator != d.elevator) out += std::string(", elevator: ") + choiceName(p.elevator);
+  return out;
+}
 
 }  // namespace
 
@@ -113,9 +127,18 @@ int main(int argc, char** argv) {
         plant.jsbsim.aircraft.c_str(), num(plant.jsbsim.mach).c_str(),
         num(plant.jsbsim.altitude_ft).c_str());
     std::printf("  engine: jsbsim\n");
-    std::printf("  jsbsim: {aircraft: %s, mach: %.17g, altitude_ft: %.17g}\n",
-                plant.jsbsim.aircraft.c_str(), plant.jsbsim.mach, plant.jsbsim.altitude_ft);
+    std::printf("  jsbsim: {aircraft: %s, mach: %.17g, altitude_ft: %.17g%s}\n",
+                plant.jsbsim.aircraft.c_str(), plant.jsbsim.mach, plant.jsbsim.altitude_ft,
+                jsbsimKeys(plant.jsbsim).c_str());
     std::printf("  operating_point: {U: %.17g}\n", tr.airspeed);
+    // An ordinary JSBSim aircraft's elevator, from its flight control system.
+    const JsbsimElevator& el = jsb.overlay().elevator();
+    if (jsb.overlay().generated() && el.travelKnown() && el.max_rate > 0.0)
+      std::printf(
+          "  actuator: {enabled: true, max_deflection: %.17g, max_rate: %.17g}  # the "
+          "aircraft's elevator: travel %.4g to %.4g rad, rate %.4g rad/s (%s)\n",
+          el.symmetricTravel(), el.max_rate, el.min_rad, el.max_rad, el.max_rate,
+          el.writer.c_str());
     std::printf(
         "  A: [[%.17g, %.17g, %.17g],\n      [%.17g, %.17g, %.17g],\n"
         "      [%.17g, %.17g, %.17g]]\n",

@@ -280,17 +280,20 @@ void writeFile(const std::filesystem::path& path, const std::string& text) {
 }
 
 /// The package's aircraft renamed `name`, its fcs/pmrac-* and pmrac/* properties renamed so
-/// that it loads and flies but lacks the package's interface (as JSBSim's own aircraft do).
-void addAircraftWithoutInterface(const std::filesystem::path& root, const std::string& name) {
+/// that it loads and flies but lacks the package's interface (as JSBSim's own aircraft do;
+/// `keep_command`: all but fcs/pmrac-elevator-cmd-rad).
+void addAircraftWithoutInterface(const std::filesystem::path& root, const std::string& name,
+                                 bool keep_command = false) {
   const std::filesystem::path from = root / "aircraft/b747_pmrac";
   std::ifstream in(from / "b747_pmrac.xml");
   std::stringstream ss;
   ss << in.rdbuf();
   std::string xml = ss.str();
-  for (const auto& [a, b] : std::vector<std::pair<std::string, std::string>>{
-           {"fcs/pmrac-elevator-cmd-rad", "fcs/other-elevator-cmd-rad"},
-           {"pmrac/", "other/"},
-           {"name=\"b747_pmrac\"", "name=\"" + name + "\""}})
+  std::vector<std::pair<std::string, std::string>> renames = {
+      {"pmrac/", "other/"}, {"name=\"b747_pmrac\"", "name=\"" + name + "\""}};
+  if (!keep_command)
+    renames.insert(renames.begin(), {"fcs/pmrac-elevator-cmd-rad", "fcs/other-elevator-cmd-rad"});
+  for (const auto& [a, b] : renames)
     for (size_t at = xml.find(a); at != std::string::npos; at = xml.find(a, at + b.size()))
       xml.replace(at, a.size(), b);
   std::filesystem::create_directories(root / "aircraft" / name);
@@ -338,11 +341,19 @@ TEST(JsbsimFailure, AnAircraftThatDoesNotLoadFailsFastNamingTheCause) {
   p.aircraft = "737";
   expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft", "no aircraft '737'");
 
-  // An aircraft that loads but lacks the package's interface: JSBSim refuses the first of the
-  // package's properties (and would leave the rest of that packet unanswered).
+  // An ordinary aircraft (none of the package's properties) gets the interface from a
+  // generated overlay, but this one's elevator comes from an <fcs_function> the package cannot
+  // follow back to fcs/elevator-cmd-norm: refused before JSBSim starts, naming the fix.
   addAircraftWithoutInterface(root, "737");
+  expectNamedFast(failToLoad(p), "plant.jsbsim.elevator",
+                  "cannot follow it back to fcs/elevator-cmd-norm");
+  // An aircraft that names the package's command (so is taken as written for the package) but
+  // lacks the rest of the interface: JSBSim refuses the first missing property (and would
+  // leave the rest of that packet unanswered).
+  p.aircraft = "767";
+  addAircraftWithoutInterface(root, "767", true);
   expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft",
-                  "has no property fcs/pmrac-elevator-cmd-rad");
+                  "has no property pmrac/fault/elevator-effectiveness");
 
   // No such initial condition.
   p.aircraft = "b747_pmrac";
@@ -360,6 +371,29 @@ TEST(JsbsimFailure, AnAircraftThatDoesNotLoadFailsFastNamingTheCause) {
   std::filesystem::remove(root / "engine/pmrac_thrust.xml");
   expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft, plant.jsbsim.root",
                   "Could not open file: pmrac_thrust");
+  std::filesystem::remove_all(root);
+}
+
+TEST(Jsbsim, AnAircraftWithoutTheInterfaceFliesAtTheSurface) {
+  // b747_pmrac without its interface, flown through a generated overlay with the package's
+  // deflection added at the surface (its elevator is an <fcs_function> the command drive cannot
+  // scale): the same aircraft, so the same trim and the same sign.
+  const RunConfig cfg = jsbsimConfig();
+  JsbsimParams p = cfg.plant.jsbsim;
+  const std::filesystem::path root = copyOfTheRoot("surface_drive");
+  addAircraftWithoutInterface(root, "737");
+  p.root = root.string();
+  p.aircraft = "737";
+  p.elevator = JsbsimElevatorDrive::kSurface;
+  {
+    JsbsimPlant plant(p, 0.001, 0.0);
+    EXPECT_TRUE(plant.overlay().generated());
+    EXPECT_NEAR(plant.trim().alpha / kDeg, 4.4525, 0.01);  // b747_pmrac's (jsbsim/README.md)
+    const Vec theta = Vec::Zero(3);
+    for (int k = 0; k < 100; ++k) plant.step(0.001, theta, 0.01, 0.0, 0.0);
+    EXPECT_LT(plant.state()[2], -1e-3);
+  }
+  EXPECT_TRUE(noChildLeft());
   std::filesystem::remove_all(root);
 }
 

@@ -12,20 +12,10 @@ set -uo pipefail
 TEST_NAME=jsbsim_aircraft
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 FAIL=0
-# This run's JSBSim processes carry a mark in their environment (inherited from the probe), so
-# JSBSim processes of other runs on the machine do not count.
-MARK="jsbsim_aircraft_$$_$(date +%s%N)"
-ours() {
-  local p
-  for p in $(pgrep -x JSBSim); do
-    tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qxF "PMRAC_TEST_MARK=$MARK" && echo "$p"
-  done
-}
-if ! bin=$("$ROOT/scripts/install_jsbsim" | tail -n1) || [ ! -x "$bin" ]; then
-  echo "FAIL: scripts/install_jsbsim did not give a JSBSim binary"
-  echo "$TEST_NAME: FAILED"
-  exit 1
-fi
+# shellcheck source=test/scripts/lib/jsbsim_mark.sh
+source "$ROOT/test/scripts/lib/jsbsim_mark.sh"
+MARK=$JSBSIM_MARK
+bin=$JSBSIM_BIN
 if ! PMRAC_TEST_MARK=$MARK PMRAC_JSBSIM=$bin /usr/bin/python3 "$ROOT/jsbsim/tools/jsbsim_probe.py" linearise --duration 3 --check; then
   echo "FAIL: trim or linearisation of b747_pmrac"
   FAIL=1
@@ -34,7 +24,7 @@ if ! PMRAC_TEST_MARK=$MARK PMRAC_JSBSIM=$bin /usr/bin/python3 "$ROOT/jsbsim/tool
   echo "FAIL: the speed modes of b747_pmrac are not the published data's"
   FAIL=1
 fi
-left=$(ours)
+left=$(jsbsim_ours)
 if [ -n "$left" ]; then
   echo "FAIL: JSBSim processes left behind: $left"
   FAIL=1

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_overlay.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/params/plant_params.hpp"
 
@@ -47,7 +48,9 @@ class JsbsimPlant : public PlantEngine {
   void reset() override;
   const Vec& state() const override { return x_; }
   void step(double dt, const Vec& theta, double effect, double r, double gust) override;
-  void setFaults(const PhysicalFaults& faults) override { faults_ = faults; }
+  /// \brief Faults act through the aircraft's pmrac/fault/* properties: an aircraft flown
+  /// through a generated overlay has none that act, and any fault but the nominal is refused.
+  void setFaults(const PhysicalFaults& faults) override;
   const FlightOutputs& flight() const override { return flight_; }
   void readFlight(bool on) override { read_flight_ = on; }
   double trimAirspeed() const override { return trim_.airspeed; }
@@ -58,6 +61,8 @@ class JsbsimPlant : public PlantEngine {
   /// \brief Steps whose read, sent right behind the step, already saw it completed.
   std::int64_t earlyReads() const { return early_reads_; }
   JsbsimProcess& process() { return proc_; }
+  /// \brief The root JSBSim runs on: the aircraft's own, or an overlay adding the interface.
+  const JsbsimOverlay& overlay() const { return overlay_; }
   /// \brief The elevator deflection from the trim [rad] of the last step (effect + theta^T x).
   double lastDeflection() const { return de_; }
 
@@ -69,6 +74,7 @@ class JsbsimPlant : public PlantEngine {
   JsbsimParams params_;
   double dt_;
   double e_i0_;
+  JsbsimOverlay overlay_;  // before proc_: JSBSim starts on its root
   JsbsimProcess proc_;
   JsbsimTrim trim_;
   Vec x_;
