@@ -441,7 +441,7 @@ double MracControllerNode::staleNow() const {
 
 bool MracControllerNode::plantLost() {
   if (params_.clock != ClockMode::kRealtime || params_.plant_lost_samples <= 0 ||
-      states_received_ == 0 || run_over_)
+      states_received_ == 0 || seq_.runOver())
     return false;
   const double timeout =
       static_cast<double>(params_.plant_lost_samples) * params_.run.controller.sample_time;
@@ -453,7 +453,7 @@ bool MracControllerNode::plantLost() {
       "no state from the plant on %s for %.3f s (~plant_lost_samples %d x %g s): the plant has "
       "gone (its last state: step %llu); commands stopped, ending (exit code %d)",
       state_topic_.c_str(), silent, params_.plant_lost_samples, params_.run.controller.sample_time,
-      static_cast<unsigned long long>(last_step_), kExitRuntimeError);
+      static_cast<unsigned long long>(seq_.lastStep()), kExitRuntimeError);
   stale_timer_.stop();
   ctx_.end(kExitRuntimeError);
   return true;
