@@ -1,5 +1,5 @@
 /// \file bench_jsbsim.cpp
-/// \brief Per-step cost of the plant engines (issue 36 item 4): ScenarioPlant::advance on the
+/// \brief Per-step cost of the plant engines: ScenarioPlant::advance on the
 /// linear model and on JSBSim (the whole coupling: set + iterate, the completed-step read,
 /// e_I), and the bare socket round trips under it. Medians of repeated blocks, one sitting.
 ///   flock /work/bench.lock build/devel/lib/preadaptive_mrac/bench_jsbsim [steps] [repeats]

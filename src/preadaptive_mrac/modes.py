@@ -1,4 +1,4 @@
-"""The modes, from their one table params/modes.yaml (issue 21: no hand-kept mode lists).
+"""The modes, from their one table params/modes.yaml (no hand-kept mode lists).
 
 The C++ registry (src/core/controller/mode_registry.cpp) is built from the same rows through the
 header of `header_text()` (preadaptive_mrac/params/modes_params.hpp, written by params_codegen with

@@ -1,4 +1,4 @@
-"""C++ from the parameter tables (issue 21: one declaration per parameter): for each table
+"""C++ from the parameter tables (one declaration per parameter): for each table
 params/<component>.yaml, a header preadaptive_mrac/params/<component>_params.hpp with
 
 - the struct of its values (the table's `struct`; the nodes' table: one per node of its

@@ -1,4 +1,4 @@
-"""The one declaration of each parameter (issue 21): params/<component>.yaml, one table per
+"""The one declaration of each parameter: params/<component>.yaml, one table per
 component, and what is derived from it: the rows of docs/parameters.md, the dynamic_reconfigure
 parameters (cfg/*.cfg read the table through this module's functions, copied into the .cfg's
 own reading since the .cfg runs before the package is importable), the optional keys of the

@@ -223,7 +223,7 @@ void BagRecorder::typedCallback(const std::string& topic, const ros::MessageEven
   if constexpr (std::is_same<M, tf2_msgs::TFMessage>::value)
     if (!msg.transforms.empty()) t = msg.transforms.front().header.stamp;
   if constexpr (std::is_same<M, PlantState>::value) state = &msg;
-  // A run that left the flight envelope (issue 35): the bag's name will say so.
+  // A run that left the flight envelope: the bag's name will say so.
   if constexpr (std::is_same<M, PlantTruth>::value)
     if (envelope_exit_.empty() && !msg.envelope_exit.empty()) envelope_exit_ = msg.envelope_exit;
   if constexpr (std::is_same<M, PlantState>::value || std::is_same<M, ElevatorCommand>::value)

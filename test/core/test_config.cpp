@@ -95,7 +95,7 @@ TEST(Config, EveryProblemAtOnceNamedByKey) {
   EXPECT_GE(ps.size(), 7u);
 }
 
-// Issue 24: a typo inside a scenario segment was reported only as the key it replaced.
+// a typo inside a scenario segment was reported only as the key it replaced.
 TEST(Config, TypoInAScenarioSegmentIsNamed) {
   ParamValue t = test::packageTree();
   t.map()["scenario"].map()["theta"].list()[1].map().erase("until");
@@ -105,7 +105,7 @@ TEST(Config, TypoInAScenarioSegmentIsNamed) {
   EXPECT_TRUE(mentions(ps, "scenario.theta.1.untill: unknown key")) << joined(ps);
 }
 
-// Issue 24: with the plant section misspelt, the state size is unknown; a theta vector was
+// with the plant section misspelt, the state size is unknown; a theta vector was
 // then checked against a guessed size of 1 (a spurious scenario problem).
 TEST(Config, MisspeltPlantSectionIsNotEchoedAsAScenarioProblem) {
   ParamValue t = test::packageTree();
@@ -174,7 +174,7 @@ TEST(Cli, JsonHasTheDocumentedFields) {
     EXPECT_NE(last.find(key), std::string::npos) << key;
 }
 
-// Issue 35: a run that loses the aircraft says so: one stderr line with the time and the
+// a run that loses the aircraft says so: one stderr line with the time and the
 // bound, and the JSON's envelope_exit (null for a run that stayed inside, with nothing on
 // stderr). The issue's reproducer; the sweep names the run in its summary.
 TEST(Cli, LeavingTheEnvelopeIsSaidOnceWithTheTime) {
@@ -322,7 +322,7 @@ TEST(ModeRegistry, EveryTableRowIsARegisteredLawAndStrategy) {
   EXPECT_EQ(std::string(modes[0].name), "rac");  // the reproduction's baseline leads
 }
 
-// Issue 36 item 1: controller.model, the controller's own design model.
+// controller.model, the controller's own design model.
 namespace {
 ParamValue matrixValue(const Eigen::MatrixXd& m) {
   std::vector<ParamValue> rows;

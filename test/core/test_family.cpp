@@ -109,7 +109,7 @@ Scenario readBack(const Scenario& s) {
 
 }  // namespace
 
-// Issue 36: --faults draws one set of physical faults per regime (the first segment nominal),
+// --faults draws one set of physical faults per regime (the first segment nominal),
 // each key within its range, deterministic per (seed, scenario); a key given as one value is
 // that value in every regime, a key not given stays nominal; the schedule reads back from YAML.
 TEST(Family, FaultsPerRegimeInRangeDeterministically) {
@@ -369,7 +369,7 @@ int runTool(const std::string& args, std::string* out) {
 }
 }  // namespace
 
-// Issue 35: runs that leave the flight envelope are named in the summary (a line per run and
+// runs that leave the flight envelope are named in the summary (a line per run and
 // the JSON's envelope_exits) and in runs.jsonl (envelope_exit); a family inside has neither.
 TEST(FamilyTool, NamesTheRunsThatLeftTheEnvelope) {
   const std::string dir = "/tmp/pmrac_family_env_" + std::to_string(getpid());
@@ -398,7 +398,7 @@ TEST(FamilyTool, NamesTheRunsThatLeftTheEnvelope) {
   std::system(("rm -rf " + dir).c_str());
 }
 
-// Issue 36: --mismatch is deterministic, leaves every other value of the family as it was (M = 0
+// --mismatch is deterministic, leaves every other value of the family as it was (M = 0
 // is the family without the flag, byte for byte), and records each scenario's true A and B.
 TEST(FamilyTool, MismatchIsDeterministicAndZeroIsTheFamily) {
   const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_mismatch";
@@ -445,7 +445,7 @@ TEST(FamilyTool, MismatchIsDeterministicAndZeroIsTheFamily) {
   EXPECT_EQ(runTool("--seed 1 --count 1 --modes rac --mismatch -0.1", &out), 2);
 }
 
-// Issue 36: runs.jsonl records the overrides every run was made with (--set, and a condition
+// runs.jsonl records the overrides every run was made with (--set, and a condition
 // flag given as one value); it was empty whatever --set said.
 TEST(FamilyTool, RunsRecordTheirOverrides) {
   const std::string dir = "/tmp/pmrac_test_" + std::to_string(getpid()) + "_overrides";
@@ -465,7 +465,7 @@ TEST(FamilyTool, RunsRecordTheirOverrides) {
   std::filesystem::remove_all(dir);
 }
 
-// Issue 36: --faults is refused, naming the flag, on the linear plant and for bad text.
+// --faults is refused, naming the flag, on the linear plant and for bad text.
 TEST(FamilyTool, FaultsRefusedNamingTheFlag) {
   std::string out;
   const std::string jsb = " --set plant.engine=jsbsim";
@@ -619,7 +619,7 @@ TEST(FamilyTool, ParsesCountsAsCounts) {
 }
 #endif
 
-// Issue 36: the true plant of --mismatch M: the alpha and q rows of A and B scaled per entry by
+// the true plant of --mismatch M: the alpha and q rows of A and B scaled per entry by
 // factors in [1 - M, 1 + M], deterministic per (seed, scenario), M = 0 the nominal plant.
 TEST(Family, MismatchedPlantDrawsFactorsInRangeDeterministically) {
   Eigen::MatrixXd A(3, 3);

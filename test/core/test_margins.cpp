@@ -1,4 +1,4 @@
-// Margins by simulation (issue 20): the early stop, the bisection's bracket, and the statuses
+// Margins by simulation: the early stop, the bisection's bracket, and the statuses
 // at the ends of the search intervals.
 
 #include <gtest/gtest.h>

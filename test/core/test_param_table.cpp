@@ -1,5 +1,5 @@
 // params/controller.yaml with its parts' tables (robust.yaml, l1.yaml; one declaration per
-// parameter, issue 21) against the C++ generated from them and the reading and validation
+// parameter) against the C++ generated from them and the reading and validation
 // built on it: the defaults of every key that may be left out, the tunables, the ranges.
 #include <gtest/gtest.h>
 

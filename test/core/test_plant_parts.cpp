@@ -1,4 +1,4 @@
-// The plant simulator's parts (issue 20), each alone and in the ScenarioPlant: transport delay,
+// The plant simulator's parts, each alone and in the ScenarioPlant: transport delay,
 // servo lag, the chain with the limits and its saturation count, elevator effectiveness, Dryden
 // turbulence, and the validation of their keys.
 
@@ -161,7 +161,7 @@ TEST(ScenarioPlant, EffectivenessScalesTheAppliedElevator) {
   EXPECT_FALSE(b.hasConditions());
 }
 
-// The conditions record (issue 34): every field has exactly one row of the table, the names
+// The conditions record: every field has exactly one row of the table, the names
 // are distinct, and the record the closed loop keeps for step k is the plant's: the values
 // held over the step (read before it) with what the step did (read after it).
 TEST(PlantConditions, OneRowPerFieldAndTheLoopKeepsThePlantsRecord) {
@@ -305,7 +305,7 @@ TEST(Config, ConditionsAreValidatedNamingTheKey) {
   t.setPath("scenario.effectiveness", eff);
   const std::string all = problems(t);
   for (const char* key :
-       // (the generic range check of params/plant.yaml's rows since issue 21; it said "must be
+       // (the generic range check of params/plant.yaml's rows; it once said "must be
        // a finite number >= 0 [s], got -0.01" before: NaN and inf, below, are still refused)
        {"plant.actuator.delay: must be in [0, 3600], got -0.01",
         "plant.actuator.time_constant: must be >= 0, got -1",
@@ -337,7 +337,7 @@ TEST(Config, ConditionsAreValidatedNamingTheKey) {
             std::string::npos);
 }
 
-// Issue 36: the physical fault schedule's keys (Scenario::kFaultKeys) refused out of range
+// the physical fault schedule's keys (Scenario::kFaultKeys) refused out of range
 // naming the key, and on the linear plant naming the section.
 TEST(Config, FaultsAreValidatedNamingTheKey) {
   ParamValue t = test::packageTree("1");
@@ -363,7 +363,7 @@ TEST(Config, FaultsAreValidatedNamingTheKey) {
       << problems(t);
 }
 
-// The plant's scalars read from params/plant.yaml's generated structs (issue 21): NaN and inf
+// The plant's scalars read from params/plant.yaml's generated structs: NaN and inf
 // are refused naming the key wherever the hand-written reader refused them (it said "finite").
 TEST(Config, PlantScalarsRefuseNanAndInfNamingTheKey) {
   const char* keys[] = {"plant.actuator.delay",          "plant.actuator.time_constant",
@@ -419,7 +419,7 @@ TEST(Config, DelayRangeOfTheTableIsMaxDelay) {
       << problems(t);
 }
 
-// Issue 35: the flight envelope. The monitor keeps the first exit, names its bound and key,
+// the flight envelope. The monitor keeps the first exit, names its bound and key,
 // and a state or command that is not finite is flagged whatever came first.
 TEST(Envelope, FirstExitKeptWithItsBoundAndNonFiniteFlagged) {
   FlightEnvelope env;  // the table's B-747 defaults

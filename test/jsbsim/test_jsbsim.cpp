@@ -1,4 +1,4 @@
-// JSBSim as the plant engine (issue 36 item 2): the coupling (trim, lockstep, determinism,
+// JSBSim as the plant engine: the coupling (trim, lockstep, determinism,
 // signs), the linearisation against Heffley and Jewell's condition 9, the configuration's
 // rules, and the failures: JSBSim not found, an aircraft that does not load, a trim that
 // fails, a JSBSim killed mid-run. Each must end with an error saying what is wrong, and leave

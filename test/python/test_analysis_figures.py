@@ -1,5 +1,5 @@
 """preadaptive_mrac.analysis figures: what a reader needs to read them is on the figure
-(issue 24): the meaning of the bar labels ("+97%") on the peak chart's axis, and on the
+: the meaning of the bar labels ("+97%") on the peak chart's axis, and on the
 theta_hat figure that MRAC's estimate need not converge to the true theta."""
 
 import types

@@ -110,7 +110,7 @@ if __name__ == '__main__':
 
 
 class TestConditionColumns(unittest.TestCase):
-    """Issue 20: a CSV of a plant with conditions carries the applied elevator and the gust;
+    """A CSV of a plant with conditions carries the applied elevator and the gust;
     both are loaded and drawn (the elevator figure's applied line, a gust figure)."""
 
     def setUp(self):
@@ -149,7 +149,7 @@ class TestConditionColumns(unittest.TestCase):
         self.assertIsNotNone(run.u_applied)
 
     def test_a_new_condition_column_is_loaded_and_drawn_by_name(self):
-        """Issue 34: a condition the Python side has never heard of (here 'gust_alpha') comes
+        """A condition the Python side has never heard of (here 'gust_alpha') comes
         in by its column name and gets a figure of its own; a constant one gets none."""
         from preadaptive_mrac.analysis import figures, metrics
 
@@ -171,7 +171,7 @@ class TestConditionColumns(unittest.TestCase):
         self.assertEqual(names, ['condition_gust_alpha_new_rac.png'])
 
     def test_a_jsbsim_run_gets_the_flight_figure(self):
-        """Issue 36: the engine's rows of the record (a JSBSim CSV: pitch, airspeed, altitude,
+        """The engine's rows of the record (a JSBSim CSV: pitch, airspeed, altitude,
         flight_path after the fixed columns) load as conditions and are drawn together in
         flight_<run>.png, not one figure each; a linear run has no flight figure."""
         from preadaptive_mrac.analysis import figures, metrics
@@ -194,7 +194,7 @@ class TestConditionColumns(unittest.TestCase):
 
 
 class TestEnvelopeExit(unittest.TestCase):
-    """Issue 35: a run whose summary says it left the flight envelope is named at the top of
+    """A run whose summary says it left the flight envelope is named at the top of
     the report (analyze_bag's text), with the time and the bound; a run inside is not."""
 
     def setUp(self):

@@ -1,4 +1,4 @@
-"""What a new user reads first is complete and points at files that exist (issues 24 and 33):
+"""What a new user reads first is complete and points at files that exist:
 - every relative link of README.md and docs/**/*.md resolves, and no source, config or doc file
   names SPEC.md (not in the repository; the specification is docs/spec.md);
 - the ROS reference's launch-argument table (docs/reference/ros.md) lists every mode

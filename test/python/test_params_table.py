@@ -1,4 +1,4 @@
-"""params/*.yaml (one declaration per parameter, issue 21) against every place derived from
+"""params/*.yaml (one declaration per parameter) against every place derived from
 it: the shipped YAML's keys and values, the rows of docs/parameters.md, the dynamic_reconfigure
 .cfg, the mutation study's optional keys; and the one list of modes (params/modes.yaml) against
 every place that could keep its own list of them."""

@@ -1,4 +1,4 @@
-"""preadaptive_mrac.viz.markers (issue 36): a JSBSim run's truth (its conditions record with the
+"""preadaptive_mrac.viz.markers: a JSBSim run's truth (its conditions record with the
 engine's rows) adds the pitch attitude, flight path angle, airspeed and altitude to rviz's text
 and turns the velocity frame by the whole angle of attack; a linear run's truth adds nothing.
 Stand-in messages, no master."""

@@ -303,7 +303,7 @@ class BrokenConfigTest(unittest.TestCase):
         )
 
     def test_broken_plant_conditions(self):
-        """Issue 20: negative delay and time constant, sigma_w < 0, an effectiveness out of
+        """Negative delay and time constant, sigma_w < 0, an effectiveness out of
         (0, 2] and a schedule going backwards: refused at once, each key named."""
         ns = '/broken_conditions'
         params = merged(

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A run that leaves the flight envelope (issue 35, test/ros/envelope.test, either clock): the
+"""A run that leaves the flight envelope (test/ros/envelope.test, either clock): the
 truth and the log say it with the time and the bound; a state that is not finite ends the run.
 
 Subscribes to plant/state, plant/truth, /diagnostics and /rosout; waits (bounded by

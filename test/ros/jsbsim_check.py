@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""JSBSim as the plant engine in ROS (issue 36, test/ros/jsbsim.test).
+"""JSBSim as the plant engine in ROS (test/ros/jsbsim.test).
 
 case realtime: the run reaches its last step on the wall clock, the truth carries the
 engine's flight outputs (pitch, airspeed, altitude, flight_path) from the trim on, the bag

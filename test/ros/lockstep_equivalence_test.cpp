@@ -45,9 +45,9 @@ struct Recorded {
   std::mutex m;
   std::uint64_t total = 0;
   std::vector<double> alpha, u, t;
-  std::vector<double> elevator, elevator_command, gust, effectiveness;  // issue 20
+  std::vector<double> elevator, elevator_command, gust, effectiveness;  // the conditions
   std::map<std::string, std::vector<double>> conditions;  // PlantTruth.conditions by name
-  std::map<std::uint64_t, std::pair<std::string, double>> envelope;  // step: bound, t (issue 35)
+  std::map<std::uint64_t, std::pair<std::string, double>> envelope;  // step: bound, t
   std::vector<std::vector<double>> theta_hat;
   std::vector<double> e;
   std::vector<int> state_seen, cmd_seen, status_seen;
@@ -303,7 +303,7 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   std::printf("[lockstep %s] %zu steps; max |diff| alpha %.3g, theta_hat %.3g, u %.3g\n",
               mode_.c_str(), n, max_alpha, max_th, max_u);
 
-  // --- issue 20: a plant with conditions writes their columns; the published elevator
+  // --- a plant with conditions writes their columns; the published elevator
   // (applied over the previous step), the command it was given and the gust equal them.
   if (cols.count("u_applied")) {
     double max_el = 0.0, max_cmd = 0.0, max_gust = 0.0, max_lambda = 0.0, gust_rms = 0.0;
@@ -331,9 +331,9 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
     std::printf("[lockstep %s] conditions: max |diff| elevator %.3g, command %.3g, gust %.3g\n",
                 mode_.c_str(), max_el, max_cmd, max_gust);
   }
-  // The truth's record (issue 34): every row of the table the CSV has, by name, equals its
+  // The truth's record: every row of the table the CSV has, by name, equals its
   // CSV column: held over [t, t + dt] at step k (an engine's flight outputs: at t_k), or of the
-  // step before for the after-step rows. The engine's rows (issue 36) are in the truth exactly
+  // step before for the after-step rows. The engine's rows are in the truth exactly
   // when the CSV has them (a JSBSim run), the plant's always.
   int rows_compared = 0;
   for (const pm::PlantConditionColumn& c : pm::kPlantConditionTable) {
@@ -361,7 +361,7 @@ TEST_F(LockstepTest, ReproducesBatchCli) {
   std::printf("[lockstep %s] %d rows of the conditions record equal the CSV's\n", mode_.c_str(),
               rows_compared);
 
-  // --- issue 35: the truth says the CLI's first exit from the flight envelope (its bound and
+  // --- the truth says the CLI's first exit from the flight envelope (its bound and
   // time) from the sample after it on, and nothing before it.
   {
     const YAML::Node ex = json["envelope_exit"];

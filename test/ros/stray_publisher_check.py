@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Stray publishers against the guarded closed loop (~accept_from, issue 11), realtime.
+"""Stray publishers against the guarded closed loop (~accept_from), realtime.
 
 Once the loop runs, starts two stray nodes (test/ros/stray_publisher.py): /stray_commander
 publishes elevator commands u = STRAY_U for a step far ahead on controller/elevator_cmd (a

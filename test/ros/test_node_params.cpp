@@ -211,7 +211,7 @@ TEST(ControllerNodeParams, WeightsInCheckedWithTheOtherProblems) {
   std::remove(path.c_str());
 }
 
-// Issue 5: the safety keys are read, range-checked and known (~stale_policy used to be refused
+// the safety keys are read, range-checked and known (~stale_policy used to be refused
 // as an unknown parameter although the reader read it).
 TEST(ControllerNodeParams, StaleKeysReadAndKnown) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
@@ -250,7 +250,7 @@ TEST(PlantNodeParams, CommandTimeoutReadAndChecked) {
   EXPECT_TRUE(anyContains(probs, "/plant_sim/diagnostic_period")) << joined(probs);
 }
 
-// params/nodes.yaml's rows of each node (issue 21): left out, every key takes the row's default
+// params/nodes.yaml's rows of each node: left out, every key takes the row's default
 // (and is listed as filled); just outside each declared range it is refused naming the key,
 // at the bound it is taken.
 pm::ParamValue nodeRowsOf(const std::string& node) {
@@ -341,7 +341,7 @@ TEST(NodeTable, DefaultsAndRangesAreTheTablesRows) {
   EXPECT_GE(checked, 36);
 }
 
-// bag_recorder_node (issue 21): its scalars from the table, the lists by hand, every problem at
+// bag_recorder_node: its scalars from the table, the lists by hand, every problem at
 // once naming its key; before, a negative ~split_size_mb was refused but a typo (~chunk_size)
 // or a string where a number belongs passed silently with the default.
 TEST(BagRecorderParams, DefaultsAndListsRead) {
@@ -433,7 +433,7 @@ TEST(NodeTable, IntBeyondThirtyTwoBitsIsRefusedNotWrapped) {
       << joined(probs);
 }
 
-// Issue 10: a short start-up timeout by default (a launch with a dead controller must end
+// a short start-up timeout by default (a launch with a dead controller must end
 // within seconds, not a minute) and ~linger (compare.launch marks its plants required).
 TEST(PlantNodeParams, StartTimeoutAndLinger) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});
@@ -676,7 +676,7 @@ TEST(TickSource, RaiseOtherThreadsRaisesTheOthersNotTheCaller) {
   EXPECT_EQ(seen_policy, SCHED_FIFO);
 }
 
-// Issue 10, no silent defaults: every optional key a node fills in is listed (resolved name and
+// no silent defaults: every optional key a node fills in is listed (resolved name and
 // value), the node's own keys and the config sections' alike; a key that is set is not.
 TEST(NodeDefaults, ControllerListsEveryFilledOptionalKey) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
@@ -714,7 +714,7 @@ TEST(NodeDefaults, NothingFilledSaysNone) {
             "optional keys filled with defaults: /a = 1, /b = 'x'");
 }
 
-// Issue 11, ~accept_from (PublisherGuard): a list of node names on both nodes; absent = any
+// ~accept_from (PublisherGuard): a list of node names on both nodes; absent = any
 // publisher (named among the defaults); every bad entry named with its resolved key.
 TEST(AcceptFrom, ReadOnBothNodesAbsentMeansAnyPublisher) {
   pm::ParamValue plant = loadConfig({"plant/b747.yaml", "scenarios/scenario1.yaml"});

@@ -1,5 +1,5 @@
 /// \file test_publisher_guard.cpp
-/// \brief PublisherGuard (~accept_from, issue 11) without a master: which caller ids pass,
+/// \brief PublisherGuard (~accept_from) without a master: which caller ids pass,
 /// what a drop counts and warns, how names are checked and resolved.
 
 #include <gtest/gtest.h>

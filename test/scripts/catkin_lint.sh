@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # catkin_lint (Debian package catkin-lint) on a workspace holding the package, as a user lints
 # their own (ws/src/preadaptive_mrac):
-#   -W1 (what `catkin_lint -W1` shows by default to a user): nothing at all (issue 33, item 7);
+#   -W1 (what `catkin_lint -W1` shows by default to a user): nothing at all;
 #   -W2: nothing but the notices explained below;
 #   and the executables left out of the install space must be exactly the development ones
 #   listed here (cmake/install.cmake turns catkin_lint's uninstalled_script and

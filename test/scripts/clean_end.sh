@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24 item 4: a run that finishes normally ends quietly and says so. roslaunch printed a
+# a run that finishes normally ends quietly and says so. roslaunch printed a
 # red "REQUIRED process [pmrac_manager-1] has died! process has finished cleanly" and the
 # nodelet loaders warned "Couldn't find service /pmrac_manager/unload_nodelet". Now the node
 # that ends the run asks roslaunch to stop (as Ctrl-C does). A short scenario through

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 20: the plant's conditions in the batch tools. preadapt_margins on rac, scenario 1 at the
+# the plant's conditions in the batch tools. preadapt_margins on rac, scenario 1 at the
 # default gamma (the delay margin's bracket and the JSON fields); every batch tool refusing the
 # bad values (negative delay or time constant, sigma_w < 0, effectiveness outside (0, 2], an
 # effectiveness schedule going backwards) with exit code 2 and a line naming the key.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 10: every key of the shipped YAML files, broken (dropped, wrong type, NaN, wrong size),
+# every key of the shipped YAML files, broken (dropped, wrong type, NaN, wrong size),
 # through scenario.launch: a seeded sample of scripts/config_mutation_study (one mutation per
 # file and kind, two that must run normally, the rest random; every other one in realtime)
 # must end within 30 s with the key named and scripts/lib/launch_checked exiting 2, or run

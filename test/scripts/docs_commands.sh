@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 33, item 4: docs that stay true. Runs the shell commands of the README (its quick start)
+# docs that stay true. Runs the shell commands of the README (its quick start)
 # and of every tutorial (docs/tutorials/*.md), page by page, each page in one bash session from
 # the repository root, as a reader would: HOME is a scratch folder (so ~/.ros/bags, ~/my_aircraft
 # ... land there), the test's own master on a free port, the build of PMRAC_BUILD_DIR. The

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 22: preadapt_family draws the plant conditions per scenario from ranges LO:HI (delay, servo
+# preadapt_family draws the plant conditions per scenario from ranges LO:HI (delay, servo
 # lag, Dryden sigma_w; a Lambda per regime): every scenario within its range, the same for every
 # mode, reported in runs.jsonl (drawn_conditions), the scenario files and the summary; the same
 # family seed draws the same again; bad ranges refused with exit 2 naming the flag.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24 item 7: messages a new user meets in the first hour name what is wrong.
+# messages a new user meets in the first hour name what is wrong.
 # - scenario:=4 (neither 1-3 nor a YAML) through scenario.launch and compare.launch names the
 #   valid choices (it said "file does not exist [4]");
 # - bench/bag_vs_cli.py on a namespaced bag without --ns says the topics are not in the bag and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 36: the JSBSim binary installs without FlightGear (scripts/install_jsbsim), the
+# the JSBSim binary installs without FlightGear (scripts/install_jsbsim), the
 # package's aircraft jsbsim/aircraft/b747_pmrac loads, JSBSim's own trim holds Mach 0.8 at
 # 40,000 ft, and the short-period model identified from a 1 ms socket lockstep run is within 2 %
 # of Heffley and Jewell's condition 9 (jsbsim/tools/jsbsim_probe.py linearise --check). Its speed

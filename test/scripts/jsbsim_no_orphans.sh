@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 36: no JSBSim process outlives its run in ROS, whatever ends it. scenario.launch with
+# no JSBSim process outlives its run in ROS, whatever ends it. scenario.launch with
 # plant_engine:=jsbsim (lockstep, scenario 1) is started twice on a master of its own:
 #  1. nodelet shape: once the plant nodelet's JSBSim runs, pmrac_manager is SIGKILLed; its
 #     JSBSim must be gone within 2 s (PR_SET_PDEATHSIG from a thread that lives as long as the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11: scripts/live_plot under Xvfb against a realtime scenario.launch (a 10 s scenario):
+# scripts/live_plot under Xvfb against a realtime scenario.launch (a 10 s scenario):
 # three rqt_plot-style arguments (/controller/status/e, /plant/state/x[1],
 # /controller/status/theta_hat_0:theta_hat_1), a 5 s scrolling window. Checks: live_plot
 # printed a non-zero point count for each of the 4 lines; the saved figure and a screenshot

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11 (exposure): a single-machine run keeps every ROS socket on loopback. With ROS_IP and
+# Network exposure: a single-machine run keeps every ROS socket on loopback. With ROS_IP and
 # ROS_HOSTNAME unset (as a user who set nothing), a short realtime scenario.launch with the
 # recorder runs through scripts/lib/launch_checked (which sources scripts/lib/ros_env), and
 # while it runs every listening TCP socket and bound UDP socket of the run's processes

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 23: compare.launch and two_machines.launch included in a user's namespace, three runs at
+# compare.launch and two_machines.launch included in a user's namespace, three runs at
 # once on one master, each from a launch file of its own that a user would write
 # (<group ns="..."><include .../></group>), lockstep, test/ros/config/short_scenario.yaml (3 s),
 # seed 1, recording:

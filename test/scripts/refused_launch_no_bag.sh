@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24 item 2: a launch refused at start-up (mode:=pa_lern, record:=true) left an empty
+# a launch refused at start-up (mode:=pa_lern, record:=true) left an empty
 # 4 KB bag named like a real run (<scenario>_pa_lern_<date>.bag). A refused run must leave
 # nothing that looks like data: no .bag (and no .bag.active) in bag_dir, in both shapes and
 # through scenario.launch and compare.launch (where the /rac pair may have run some steps before

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24 item 8: pa_robust re-verifies every few ms inside a phase, and the controller logged
+# pa_robust re-verifies every few ms inside a phase, and the controller logged
 # each of those DECISION events at INFO (dozens of lines per switch). Now the same choice again
 # is DEBUG: over lockstep scenario 1 at most two INFO decision lines per onset (the onset's
 # choice and, at most, one change), while the attention topic still carries every DECISION event.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24 item 1: scripts/run_demo validates before it touches anything and replaces the
+# scripts/run_demo validates before it touches anything and replaces the
 # earlier outputs only when a new run has succeeded. Earlier outputs (stand-ins) in a scratch
 # --out folder must come through, byte for byte, a scenario with a key typo, a scenario that is
 # neither 1-3 nor a file, and a run the nodes refuse (dt:=-1, which only the launch sees); then

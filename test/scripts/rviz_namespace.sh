@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 23: compare.launch rviz:=true included in a user's <group ns="cmp">, under Xvfb: rviz
+# compare.launch rviz:=true included in a user's <group ns="cmp">, under Xvfb: rviz
 # (remapped by the launch file) subscribes to /cmp/tf and /cmp/aircraft_markers, the pa pair's
 # viz_markers publishes the latter from /cmp/pa (scripts/lib/parent_names), the screenshot shows
 # the aircraft, arrow, text and alpha history, no display in error. Exit 77 (skipped, said)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11: scripts/slurm/submit_sweep + sweep_array.sbatch on a single-node Slurm that this
+# scripts/slurm/submit_sweep + sweep_array.sbatch on a single-node Slurm that this
 # test starts (slurmctld + slurmd on 127.0.0.1, a slurm.conf generated in a temp folder):
 # 3 array tasks and the dependent merge job; the merged file must be byte-identical to the
 # unsharded sweep. Then a sweep whose shard fails: the merge job must not run.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11: preadapt_sweep --shard K/N and --merge. The same sweep (2 modes x 2 seeds x a
+# preadapt_sweep --shard K/N and --merge. The same sweep (2 modes x 2 seeds x a
 # 3-value grid = 12 runs) unsharded, then sharded 1, 3 and 5 ways (5 > some slices' share:
 # uneven slices) run by GNU parallel with the command line of docs/reference/sweeps.md, merged: each
 # merge must be byte-identical to the unsharded output. Then what the merge must refuse

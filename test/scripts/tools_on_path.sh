@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 24, item 3: the README's way. After `source build/devel/setup.bash` the batch tools are
+# the README's way. After `source build/devel/setup.bash` the batch tools are
 # commands (catkin's global bin, devel/bin), with a link each in the package's lib/ for rosrun;
 # preadapt_sim finds the package's config/ from where it is (no source path compiled in), from
 # any working directory, and gives the same run as with the folder named explicitly.
@@ -24,7 +24,7 @@ for tool in preadapt_sim preadapt_sweep preadapt_family; do
     fail "$tool has the source's config path compiled in"
   fi
 done
-# Issue 33, item 6: rosrun finds every executable of the package after the README's own build
+# rosrun finds every executable of the package after the README's own build
 # (build/ inside the source, whose paths rosrun drops: cmake/install.cmake links them into
 # .rosrun/), each at exactly one place (two would make rosrun ask which), and roslaunch's
 # find_node still finds the nodes once. The executables: those of the devel space's

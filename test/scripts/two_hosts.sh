@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11: plant (with the master and the recorder) and controller on two "hosts": two network
+# plant (with the master and the recorder) and controller on two "hosts": two network
 # namespaces joined by a veth pair (10.77.0.1/24 and 10.77.0.2/24), ROS_IP / ROS_MASTER_URI set
 # in each, launched with launch/two_machines.launch part:=plant / part:=controller.
 #  1. lockstep scenario 1 (pa_learn) through the link: the bag equals the batch CLI's CSV bit

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 33, item 5: two lockstep runs in one launch file (launch/side_by_side.launch: two
+# two lockstep runs in one launch file (launch/side_by_side.launch: two
 # scenario.launch includes in <group ns="run_a"> and <group ns="run_b"> with ends_launch:=false,
 # and a required run monitor), recording, seed 1: run_a rac on test/ros/config/short_scenario.yaml
 # (3 s), run_b pa_learn on scenario 1 (60 s), so run_a ends well before run_b (the issue's case);

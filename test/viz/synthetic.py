@@ -365,7 +365,7 @@ def make_messages(sim, classes):
         tr.step = step
         tr.theta = list(sim['theta'][i])
         tr.theta_scale = float(sim['theta'][i][0])
-        # issue 35: a run that left the flight envelope at sample sim['envelope_step']
+        # a run that left the flight envelope at sample sim['envelope_step']
         if i >= sim.get('envelope_step', len(sim['t'])):
             _set_opt(
                 tr,

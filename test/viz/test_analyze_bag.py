@@ -101,7 +101,7 @@ def tearDownModule():
 
 
 class TestEnvelopeExitBag(unittest.TestCase):
-    """Issue 35: a bag whose truth says the plant left the flight envelope: analyze_bag's
+    """A bag whose truth says the plant left the flight envelope: analyze_bag's
     report names the run, the time and the bound before anything else; a bag inside does not."""
 
     def test_report_starts_with_the_exit(self):
@@ -774,7 +774,7 @@ class TestVizMarkersOffline(unittest.TestCase):
         return v
 
     def test_text_shows_the_envelope_exit(self):
-        """Issue 35: the rviz text names a run that left the flight envelope, in red."""
+        """The rviz text names a run that left the flight envelope, in red."""
         v = self._viz()
         truth = self.classes['PlantTruth']()
         truth.theta = [1.0, 1.0, 1.0]

@@ -129,7 +129,7 @@ class MracControllerNode {
   /// recovery, onset or other event without a verification): a repeat is logged at DEBUG
   std::string logged_choice_;
 
-  /// dynamic_reconfigure (~reconfigure) and controller/param_change (issue 11).
+  /// dynamic_reconfigure (~reconfigure) and controller/param_change.
   std::unique_ptr<ControllerReconfigure> reconf_;
 
   std::map<std::uint64_t, Vec> truth_;        ///< pa_learn_exact, oracle: theta by step

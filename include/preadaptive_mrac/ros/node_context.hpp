@@ -100,7 +100,7 @@ template <class Params, class Reader>
 bool readNodeParams(const NodeContext& ctx, Reader read, Params* out) {
   try {
     *out = read(ctx.privateParams(), ctx.keyStyle());
-    // One start-up line naming every optional key filled with its default (issue 10).
+    // One start-up line naming every optional key filled with its default.
     ROS_INFO("%s", defaultsLine(out->defaults_used).c_str());
     return true;
   } catch (const ConfigError& e) {

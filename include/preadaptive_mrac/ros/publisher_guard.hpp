@@ -1,7 +1,7 @@
 #pragma once
 /// \file publisher_guard.hpp
-/// \brief Take a topic's messages only from the publishers a node expects (~accept_from,
-/// issue 11): the caller id of each message's connection header against a list of node names.
+/// \brief Take a topic's messages only from the publishers a node expects (~accept_from):
+/// the caller id of each message's connection header against a list of node names.
 /// Others are dropped, counted, and warned about once per publisher and topic.
 ///
 /// A guard against a stray or misconfigured node (a second plant or a test publisher left

@@ -279,7 +279,7 @@ def _fill_from_bag(run, acc, path):
         th.append(v)
     run.theta = np.array(th, dtype=float)
 
-    # Issue 20: PlantState.elevator is what the plant applied over [t - dt, t]; shown beside
+    # PlantState.elevator is what the plant applied over [t - dt, t]; shown beside
     # the command when the plant says what it was commanded (bags recorded before the field
     # existed have no elevator_command) and the two differ (delay, lag or limits on).
     if ps and hasattr(ps[0][0], 'elevator_command') and dt:
@@ -287,7 +287,7 @@ def _fill_from_bag(run, acc, path):
         commanded = np.array([m.elevator_command for m, _ in ps], dtype=float)
         if np.any(applied != commanded):
             run.t_applied, run.u_applied = run.t_alpha[1:] - dt, applied[1:]
-    # The plant's conditions record by name (PlantTruth.conditions, issue 34): values of the
+    # The plant's conditions record by name (PlantTruth.conditions): values of the
     # previous step are moved to the step they belong to. Bags recorded before the record
     # existed have gust_w alone.
     if tr and getattr(tr[0][0], 'condition_names', None):
@@ -305,7 +305,7 @@ def _fill_from_bag(run, acc, path):
         if np.any(gust != 0.0):
             run.t_gust, run.gust_w = run.t_theta, gust
 
-    # issue 35: the plant's first exit from the flight envelope (bags before it have no field)
+    # the plant's first exit from the flight envelope (bags before it have no field)
     for m, _ in tr:
         if getattr(m, 'envelope_exit', ''):
             run.envelope_exit = m.envelope_exit

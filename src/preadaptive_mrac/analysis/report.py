@@ -32,7 +32,7 @@ def _theta_text(scale, vec):
 
 def format_report(metrics, comparison):
     lines = []
-    # issue 35: a run that lost the aircraft says so before anything else
+    # a run that lost the aircraft says so before anything else
     for m in metrics:
         if m.get('envelope_exit'):
             lines.append(

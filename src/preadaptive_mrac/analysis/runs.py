@@ -98,11 +98,11 @@ class Run:
         self.t_theta = self.theta = None
         self.t_u = self.u = self.u_bl = self.u_ad = None
         self.u_source = ''
-        # issue 20: what the elevator did and the gust (None: the source has no conditions)
+        # what the elevator did and the gust (None: the source has no conditions)
         self.t_applied = self.u_applied = None
         self.t_gust = self.gust_w = None
         self.conditions = {}
-        # issue 35: the plant's first exit from the flight envelope, one line (None: stayed
+        # the plant's first exit from the flight envelope, one line (None: stayed
         # inside, or the source does not say)
         self.envelope_exit = None
         self.summary = None  # the batch CLI's --json object, for a CSV input

@@ -14,8 +14,8 @@ from preadaptive_mrac.bench import timing
 MODES = list(modes.MODES)
 # Controller::step aims per mode [ns]; modes without one are reported without a verdict.
 AIM_STEP = {'rac': 1000.0, 'pa': 1000.0, 'pa_learn': 3000.0, 'pa_learn_exact': 3000.0}
-AIM_SCENARIO3_MS = 20.0  # full scenario 3 per mode (issue 9)
-AIM_PROTOTYPE_RATIO = 500.0  # the CLI against the numpy prototype, same work (issue 9)
+AIM_SCENARIO3_MS = 20.0  # full scenario 3 per mode
+AIM_PROTOTYPE_RATIO = 500.0  # the CLI against the numpy prototype, same work
 SAMPLES_S3 = 140000
 
 # The sections render() writes; any other '## ' section of an existing page is kept.

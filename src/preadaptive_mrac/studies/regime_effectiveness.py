@@ -1,4 +1,4 @@
-"""Elevator effectiveness that changes with the regime (issue 22 item 3): preadapt_family's
+"""Elevator effectiveness that changes with the regime: preadapt_family's
 scenarios with a Lambda per regime, every mode against rac on the same plant and noise.
 
 preadapt_family holds Lambda constant over a scenario; here each distinct theta of a scenario

@@ -44,14 +44,14 @@ EXPECT_RUNS = [
         r'plant\.operating_point\.U',
         ('drop',),
         'runs while plant.turbulence is off (the Dryden filter\'s airspeed V); not in the '
-        '"filled with defaults" line (issue 20: a run without the key reports what it did before)',
+        '"filled with defaults" line (a run without the key reports what it did before)',
     ),
     (
         'plant',
         r'plant\.actuator\.(delay|time_constant)',
         ('drop',),
         'runs with 0 (the paper\'s instant elevator); not in the "filled with defaults" line '
-        '(issue 20: a run without the key reports byte for byte what it did before the key)',
+        '(a run without the key reports byte for byte what it did before the key)',
     ),
     (
         'scenario',

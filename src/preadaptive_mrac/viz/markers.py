@@ -236,7 +236,7 @@ class VizMarkers:
                 _color(1, 1, 1),
             )
         )
-        # issue 35: a run that left the flight envelope says so, in red, under the time
+        # a run that left the flight envelope says so, in red, under the time
         if truth is not None and getattr(truth, 'envelope_exit', ''):
             text = 'LEFT THE FLIGHT ENVELOPE at ' + truth.envelope_exit
             lines.append((text, _color(1, 0.2, 0.2)))
@@ -247,7 +247,7 @@ class VizMarkers:
                     _color(1.0, 0.9, 0.3),
                 )
             )
-        # issue 36: a JSBSim run's attitude, airspeed and altitude (the linear model has none)
+        # a JSBSim run's attitude, airspeed and altitude (the linear model has none)
         fl = flight_of(truth)
         if fl is not None:
             lines.append(

@@ -1,5 +1,5 @@
 """The shell commands of the README's quick start and of the tutorials, as one bash script per
-page, for test/scripts/docs_commands.sh (issue 33, item 4).
+page, for test/scripts/docs_commands.sh.
 
     doc_commands.py PAGE BUILD    # prints the script; each left-out command as a comment with
                                   # its reason, and "# SKIPPED: <reason>" lines on stderr
