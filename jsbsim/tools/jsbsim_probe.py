@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Research aid for the JSBSim plant engine: drives the Debian JSBSim 2020.3 binary through its
-input socket with the package's aircraft, measures the protocol facts the C++ coupling relies on, trims with
-JSBSim's own trim and identifies the short-period model from a 1 ms lockstep run.
+input socket with the package's aircraft, measures the protocol facts the C++ coupling relies
+on, trims with JSBSim's own trim and identifies the short-period model from a 1 ms lockstep run.
 
     jsbsim_probe.py linearise [--altitude-ft 40000] [--mach 0.8] [--set PROP=VALUE] [--check]
     jsbsim_probe.py facts
