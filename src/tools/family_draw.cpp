@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 
 #include "family_tool.hpp"
@@ -178,7 +179,15 @@ Family drawFamily(const Options& opt) {
     throw cli::UsageError(std::string("--faults: ") + kFaultsNeedAerodynamics +
                           " (add --set plant.engine=jsbsim); the linear model has no CG or "
                           "aerodynamics (use --effectiveness on it)");
-  if (!opt.out_dir.empty()) ::mkdir(opt.out_dir.c_str(), 0755);
+  if (!opt.out_dir.empty()) {
+    // An earlier family's results are not replaced without being asked to.
+    std::error_code ec;
+    for (const char* name : {"runs.jsonl", "scenario_0.yaml"})
+      if (!opt.force && std::filesystem::exists(opt.out_dir + "/" + name, ec))
+        throw cli::UsageError("--out-dir: '" + opt.out_dir + "' holds an earlier family (" + name +
+                              "): not replaced (name a new folder, or --force)");
+    ::mkdir(opt.out_dir.c_str(), 0755);
+  }
   fam.trim = trimCheck(opt, spec, cfg);
   // What each scenario drew (runs.jsonl's drawn_conditions), and the span over the family.
   fam.drawn.resize(static_cast<size_t>(opt.count));

@@ -30,6 +30,7 @@ struct Options {
   FamilySpec spec;
   std::string out_dir;  ///< empty: write no scenario files nor runs.jsonl
   bool json = false;
+  bool force = false;  ///< --force: replace an earlier family's files in out_dir
   unsigned jobs = 1;
   std::string elevator = "b747";
   double trim_fraction = 0.5;

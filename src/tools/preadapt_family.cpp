@@ -147,7 +147,10 @@ void addOptions(CLI::App& app, family::Options* opt, OptionText* t) {
                "KEY cg_shift (fraction of the chord, + aft, in [-0.3, 0.3]), "
                "elevator_effectiveness or pitch_damping (multipliers in [0, 2]), e.g. "
                "cg_shift=0:0.05,elevator_effectiveness=0.5:1,pitch_damping=0.3:1");
-  cli::addText(app, "--out-dir", &opt->out_dir, "write the scenarios and every run's JSON here");
+  cli::addText(app, "--out-dir", &opt->out_dir,
+               "write the scenarios and every run's JSON here (a folder that holds an earlier "
+               "family's runs.jsonl or scenario files is refused unless --force)");
+  app.add_flag("--force", opt->force, "with --out-dir: replace an earlier family's files there");
   app.add_flag("--json", opt->json, "also print one JSON line per mode with every ratio");
   cli::addText(app, "--jobs", &t->jobs, "threads (default: all cores)");
 }

@@ -676,3 +676,26 @@ TEST(Family, ALostRunCountsAsWorstNotBetter) {
   EXPECT_EQ(s.iae_over, 1);
   EXPECT_TRUE(std::isinf(s.worst_u_oracle));
 }
+
+// --out-dir keeps an earlier family: a second run into the same folder is refused, naming the
+// flag and the file, and leaves runs.jsonl as it was; with --force it replaces them.
+TEST(FamilyTool, OutDirKeepsAnEarlierFamilyWithoutForce) {
+  const std::string dir = "/tmp/pmrac_family_keep_" + std::to_string(getpid());
+  const std::string run = "--count 1 --segments 6 --modes rac --jobs 1 --out-dir " + dir;
+  std::string out;
+  ASSERT_EQ(runTool("--seed 3 " + run, &out), 0) << out;
+  const auto read = [&]() {
+    std::ifstream in(dir + "/runs.jsonl");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string first = read();
+  ASSERT_FALSE(first.empty());
+  EXPECT_EQ(runTool("--seed 4 " + run, &out), 2) << out;
+  EXPECT_NE(out.find("--out-dir: '" + dir + "' holds an earlier family (runs.jsonl)"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(read(), first);
+  EXPECT_EQ(runTool("--seed 4 --force " + run, &out), 0) << out;
+  EXPECT_NE(read(), first);
+  std::filesystem::remove_all(dir);
+}

@@ -87,7 +87,7 @@ class StepSequencer {
   bool stale() const { return stale_; }
   std::uint64_t lastValidStep() const { return last_valid_step_; }
   std::uint64_t lastStep() const { return last_step_; }  ///< step of the last state
-  bool runOver() const { return run_over_; }  ///< the plant's last step has been answered
+  bool runOver() const { return run_over_; }     ///< the plant's last step has been answered
   std::int64_t steps() const { return steps_; }  ///< controller steps
   std::int64_t gaps() const { return gaps_; }
   std::int64_t restarts() const { return restarts_; }

@@ -73,7 +73,8 @@ def run_study(bin_dir, seed, count, modes, lo=0.4, hi=1.0, noise=1e-4, out_dir='
     fam = os.path.join(out_dir, 'family')
     subprocess.run(
         [os.path.join(bin_dir, 'preadapt_family'), '--seed', str(seed), '--count', str(count)]
-        + ['--modes', 'rac', '--out-dir', fam, '--jobs', str(jobs)],
+        # the study's own working folder: a re-run replaces it
+        + ['--modes', 'rac', '--out-dir', fam, '--force', '--jobs', str(jobs)],
         check=True,
         stdout=subprocess.DEVNULL,
     )
