@@ -74,8 +74,8 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
-  // Pitch angle theta = gamma + alpha: start on a level flight path (gamma(0) = 0); an
-  // engine's own pitch attitude (the trim's at the start).
+  // Pitch angle theta = gamma + alpha on a level flight path (gamma = 0); an engine's own
+  // pitch attitude (the trim's at the start).
   const int out = sim_.plant().outputIndex();
   theta_pitch_ = sim_.flight() ? sim_.flight()->pitch : sim_.state()[out];
 }
@@ -251,7 +251,6 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
 }
 
 void PlantSimNode::advance(double u) {
-  const double q_before = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
   sim_.advance(u);
   // After the actuator limits of plant.actuator (u itself when they are off).
   applied_u_ = sim_.lastApplied();
@@ -266,13 +265,13 @@ void PlantSimNode::advance(double u) {
     // within this step, and its diagnostics would otherwise never say why.
     updater_.force_update();
   }
-  const double q_after = sim_.state().size() > 2 ? sim_.state()[2] : 0.0;
-  // Display only: the pitch angle is not a state of the model; trapezoidal integral of q
-  // (an engine knows its pitch attitude).
+  // Display only: an engine knows its pitch attitude. The linear model has no flight path
+  // (it holds the speed, and a steady alpha above trim is a steady pull-up: the integral of q
+  // would loop the aircraft), so its pitch is drawn on a level flight path: theta = alpha.
   if (const FlightOutputs* f = sim_.flight())
     theta_pitch_ = f->pitch;
   else
-    theta_pitch_ += 0.5 * sim_.dt() * (q_before + q_after);
+    theta_pitch_ = sim_.state()[sim_.plant().outputIndex()];
 }
 
 int PlantSimNode::run() {

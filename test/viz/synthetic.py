@@ -162,7 +162,7 @@ def simulate(
     phase = False
     phase_cost = 0.0
     episodes = 0
-    theta_pitch = 0.0
+    theta_pitch = x[1]
     decisions_made = 0  # DECISION events so far
     decisions_due = []  # steps of the pending DECISION events
     n = int(round(t_end / dt))
@@ -293,7 +293,7 @@ def simulate(
         x = x + dt / 6.0 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
         xr = xr + dt / 6.0 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
         th_hat = th_hat + dt / 6.0 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2])
-        theta_pitch += dt * x[2]
+        theta_pitch = x[1]  # the plant node: a level flight path, the nose at alpha
         if phase:
             phase_cost += abs(e) * dt
     res = {k: np.array(v) for k, v in out.items()}
