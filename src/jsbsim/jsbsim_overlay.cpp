@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +16,7 @@
 #include <sstream>
 #include <vector>
 
+#include "preadaptive_mrac/jsbsim/jsbsim_paths.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_xml.hpp"
 
@@ -369,17 +369,6 @@ void mirror(const fs::path& from, const fs::path& to) {
   }
 }
 
-std::string makeTempDir() {
-  const char* tmp = std::getenv("TMPDIR");
-  std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/pmrac_overlay_XXXXXX";
-  std::vector<char> t(templ.begin(), templ.end());
-  t.push_back('\0');
-  if (::mkdtemp(t.data()) == nullptr)
-    throw JsbsimError("JSBSim: cannot make a temporary folder " + templ + ": " +
-                      std::strerror(errno));
-  return t.data();
-}
-
 /// What the overlay changes: the aircraft's elevator found and every edit queued.
 JsbsimElevator planOverlay(Fcs* fcs, const std::string& aircraft, JsbsimElevatorDrive drive) {
   const Component* w = fcs->writer(kPosition);
@@ -466,7 +455,7 @@ JsbsimOverlay::JsbsimOverlay(const std::string& root, const JsbsimParams& params
   if (jsbsimHasInterface(readText(src / (params.aircraft + ".xml")))) return;
   Fcs fcs(root, params.aircraft);
   elevator_ = planOverlay(&fcs, params.aircraft, params.elevator);
-  dir_ = makeTempDir();
+  dir_ = makeJsbsimTempDir("pmrac_overlay_");
   try {
     // The root's other folders (engine/, systems/, ...) linked; the aircraft's folder mirrored
     // file by file, so a rewritten file can take its place.

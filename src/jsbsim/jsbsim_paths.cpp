@@ -6,7 +6,9 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 
@@ -95,6 +97,17 @@ std::string findJsbsimRoot(const std::string& configured, const std::string& air
   throw JsbsimError("plant.jsbsim.aircraft: no aircraft '" + aircraft + "' (looked for aircraft/" +
                     aircraft + "/" + aircraft + ".xml under " + list +
                     "); the package's aircraft is b747_pmrac, or give plant.jsbsim.root");
+}
+
+std::string makeJsbsimTempDir(const std::string& prefix) {
+  const char* tmp = std::getenv("TMPDIR");
+  std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/" + prefix + "XXXXXX";
+  std::vector<char> t(templ.begin(), templ.end());
+  t.push_back('\0');
+  if (::mkdtemp(t.data()) == nullptr)
+    throw JsbsimError("JSBSim: cannot make a temporary folder " + templ + ": " +
+                      std::strerror(errno));
+  return t.data();
 }
 
 }  // namespace preadaptive_mrac

@@ -173,16 +173,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   port_ = freePort();
   log_mark_ = 0;
   greeted_ = false;
-  if (dir_.empty()) {
-    const char* tmp = std::getenv("TMPDIR");
-    std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/pmrac_jsbsim_XXXXXX";
-    std::vector<char> t(templ.begin(), templ.end());
-    t.push_back('\0');
-    if (::mkdtemp(t.data()) == nullptr)
-      throw JsbsimError("JSBSim: cannot make a temporary folder " + templ + ": " +
-                        std::strerror(errno));
-    dir_ = t.data();
-  }
+  if (dir_.empty()) dir_ = makeJsbsimTempDir("pmrac_jsbsim_");
   const std::string script = dir_ + "/lockstep.xml";
   log_path_ = dir_ + "/jsbsim.log";
   {

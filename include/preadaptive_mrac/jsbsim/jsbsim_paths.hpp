@@ -19,5 +19,8 @@ std::string findJsbsimExecutable(const std::string& configured);
 /// share/preadaptive_mrac/jsbsim found from the running executable (as config/ is), else
 /// ./jsbsim. Throws JsbsimError when the aircraft folder is not there.
 std::string findJsbsimRoot(const std::string& configured, const std::string& aircraft);
+/// \brief A new private folder $TMPDIR (else /tmp)/`prefix`XXXXXX for a run's files (the
+/// lockstep script and log, an aircraft overlay). Throws JsbsimError when it cannot be made.
+std::string makeJsbsimTempDir(const std::string& prefix);
 
 }  // namespace preadaptive_mrac
