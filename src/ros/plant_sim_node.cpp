@@ -74,10 +74,6 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
-  // Pitch angle theta = gamma + alpha on a level flight path (gamma = 0); an engine's own
-  // pitch attitude (the trim's at the start).
-  const int out = sim_.plant().outputIndex();
-  theta_pitch_ = sim_.flight() ? sim_.flight()->pitch : sim_.state()[out];
 }
 
 ros::Time PlantSimNode::simStamp(double t) {
@@ -219,6 +215,12 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   if (exit.exited) truth->envelope_exit = exit.describe();
   truth_pub_.publish(PlantTruth::ConstPtr(truth));
 
+  // The pitch, display only: an engine knows its pitch attitude. The linear model has no
+  // flight path (it holds the speed, and a steady alpha above trim is a steady pull-up: the
+  // integral of q would loop the aircraft), so its pitch is drawn on a level flight path:
+  // theta = alpha.
+  const FlightOutputs* f = sim_.flight();
+  const double pitch = f ? f->pitch : sim_.state()[out];
   const auto state = boost::make_shared<PlantState>();
   state->header.stamp = stamp;
   state->step = k;
@@ -229,7 +231,7 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   state->e_I = x.size() > 0 ? x[0] : 0.0;
   state->alpha = x[out];
   state->q = x.size() > 2 ? x[2] : 0.0;
-  state->theta_pitch = theta_pitch_;
+  state->theta_pitch = pitch;
   state->r = sim_.reference();
   state->elevator = applied_u_;
   state->elevator_command = sim_.lastCommand();
@@ -240,10 +242,9 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   if (k % static_cast<std::uint64_t>(params_.tf_decimation) == 0) {
     const auto tfs = boost::make_shared<tf2_msgs::TFMessage>();
     tfs->transforms.push_back(
-        pitchTransform(stamp, params_.world_frame, params_.body_frame, -theta_pitch_));
+        pitchTransform(stamp, params_.world_frame, params_.body_frame, -pitch));
     // The velocity vector lies alpha below the nose: rotate the body frame nose-down by alpha
     // (on an engine the whole angle, pitch attitude - flight path angle, trim included).
-    const FlightOutputs* f = sim_.flight();
     tfs->transforms.push_back(pitchTransform(stamp, params_.body_frame, params_.velocity_frame,
                                              f ? f->pitch - f->flight_path : x[out]));
     tf_pub_.publish(tf2_msgs::TFMessage::ConstPtr(tfs));
@@ -265,13 +266,6 @@ void PlantSimNode::advance(double u) {
     // within this step, and its diagnostics would otherwise never say why.
     updater_.force_update();
   }
-  // Display only: an engine knows its pitch attitude. The linear model has no flight path
-  // (it holds the speed, and a steady alpha above trim is a steady pull-up: the integral of q
-  // would loop the aircraft), so its pitch is drawn on a level flight path: theta = alpha.
-  if (const FlightOutputs* f = sim_.flight())
-    theta_pitch_ = f->pitch;
-  else
-    theta_pitch_ = sim_.state()[sim_.plant().outputIndex()];
 }
 
 int PlantSimNode::run() {

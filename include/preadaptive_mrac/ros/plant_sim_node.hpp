@@ -104,8 +104,7 @@ class PlantSimNode {
   PublisherGuard cmd_guard_;  ///< ~accept_from on the command topic
   std::string cmd_topic_;     ///< resolved command topic, for the guard's warnings
 
-  double applied_u_ = 0.0;    ///< elevator over the previous step [rad]
-  double theta_pitch_ = 0.0;  ///< integrated pitch angle [rad] (display only)
+  double applied_u_ = 0.0;  ///< elevator over the previous step [rad]
 
   mutable std::mutex mutex_;  ///< guards the fields below and the clock's counters
   bool have_cmd_ = false;
