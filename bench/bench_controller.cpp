@@ -90,7 +90,7 @@ std::unique_ptr<Recording> record(const std::string& mode) {
   auto rec = std::make_unique<Recording>();
   rec->mode = mode;
   rec->cfg = loadConfig("3", mode);
-  Controller ctl(rec->cfg.plant, rec->cfg.controller);
+  Controller ctl(designModelOf(rec->cfg.plant, rec->cfg.controller), rec->cfg.controller);
   rec->net0 = ctl.network().state();
   ClosedLoop loop(rec->cfg.plant, rec->cfg.scenario, &ctl);
   SimOptions opt;
@@ -134,7 +134,7 @@ std::unique_ptr<Recording> record(const std::string& mode) {
 /// closed-loop run (u bit for bit, same events): otherwise the timed replay would not measure
 /// what the run did.
 std::string verifyReplay(const Recording& rec) {
-  Controller ctl(rec.cfg.plant, rec.cfg.controller);
+  Controller ctl(designModelOf(rec.cfg.plant, rec.cfg.controller), rec.cfg.controller);
   size_t ev = 0;
   for (size_t k = 0; k < rec.steps(); ++k) {
     const StepOutput o = ctl.step(inputAt(rec, k));
@@ -158,7 +158,7 @@ void setCounters(benchmark::State& state, const Recording& rec) {
 }
 
 void BM_ControllerStepTrajectory(benchmark::State& state, const Recording* rec) {
-  Controller ctl(rec->cfg.plant, rec->cfg.controller);
+  Controller ctl(designModelOf(rec->cfg.plant, rec->cfg.controller), rec->cfg.controller);
   const size_t n = rec->steps();
   size_t k = 0;
   for (auto _ : state) {
@@ -175,7 +175,7 @@ void BM_ControllerStepTrajectory(benchmark::State& state, const Recording* rec) 
 }
 
 void BM_ControllerStepInPhase(benchmark::State& state, const Recording* rec) {
-  Controller ctl(rec->cfg.plant, rec->cfg.controller);
+  Controller ctl(designModelOf(rec->cfg.plant, rec->cfg.controller), rec->cfg.controller);
   for (size_t k = 0; k < rec->phase_begin; ++k) ctl.step(inputAt(*rec, k));
   if (!ctl.phaseActive()) {
     state.SkipWithError("no adaptation phase at the replayed onset");
@@ -247,7 +247,7 @@ void BM_ScenarioPlantStep(benchmark::State& state, const Recording* rec, Parts p
 }
 
 void BM_ClosedLoopScenario3(benchmark::State& state, const Recording* rec) {
-  Controller ctl(rec->cfg.plant, rec->cfg.controller);
+  Controller ctl(designModelOf(rec->cfg.plant, rec->cfg.controller), rec->cfg.controller);
   ClosedLoop loop(rec->cfg.plant, rec->cfg.scenario, &ctl);
   SimOptions opt;
   opt.dt = rec->cfg.controller.sample_time;

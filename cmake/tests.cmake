@@ -1,10 +1,22 @@
 # Tests: gtest for the core (no ROS master), rostest for the nodes (cmake/tests_ros.cmake).
 if(CATKIN_ENABLE_TESTING)
-  set(PMRAC_CORE_TESTS solvers attention gradients closed_loop weights_io config safety family
-      robust robust_parts tunables fast_paths plant_parts margins param_table l1 plant_engine
-      saturation own_aircraft step_sequencer)
-  foreach(name ${PMRAC_CORE_TESTS})
-    catkin_add_gtest(test_${name} test/core/test_${name}.cpp)
+  # Each unit test in the folder of the part it tests, as the part is in src/: test/core/sim/
+  # for src/core/sim/, ..., test/io/ for src/io/; the top of test/core/ holds the core's top
+  # (solvers, closed loop, margins, step sequencer) and the whole-run tests (configuration and
+  # CLI, safety options, fast paths, a second aircraft). One entry: <folder>/<name> makes
+  # test_<name> from test/<folder>/test_<name>.cpp.
+  set(PMRAC_CORE_TESTS
+      core/solvers core/closed_loop core/margins core/step_sequencer core/config core/safety
+      core/fast_paths core/own_aircraft core/schema/param_table
+      core/sim/plant_parts core/sim/plant_engine core/sim/family
+      core/control/attention core/control/gradients core/control/l1
+      core/robust/robust core/robust/robust_parts
+      core/controller/tunables core/controller/saturation
+      io/weights_io)
+  foreach(entry ${PMRAC_CORE_TESTS})
+    get_filename_component(name ${entry} NAME)
+    get_filename_component(folder ${entry} DIRECTORY)
+    catkin_add_gtest(test_${name} test/${folder}/test_${name}.cpp)
     target_link_libraries(test_${name} preadaptive_mrac_io gtest_main)
     target_include_directories(test_${name} PRIVATE test/core)
   endforeach()

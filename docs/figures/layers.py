@@ -35,7 +35,14 @@ BOXES = {
     ),
     'io': (2.8, 8.4, 4.4, 1.1, ['io: YAML, weights, JSON/CSV', 'src/io (yaml-cpp)'], '#cfe3c4'),
     'jsbsim': (7.6, 8.4, 2.2, 1.1, ['JSBSim engine', 'src/jsbsim (POSIX)'], '#cfe3c4'),
-    'loop': (0.2, 6.9, 9.6, 0.9, ['closed loop, margins (core/)'], '#c9d9ef'),
+    'loop': (
+        0.2,
+        6.9,
+        9.6,
+        0.9,
+        ['closed loop, margins, the design model of the plant (core/)'],
+        '#c9d9ef',
+    ),
     'controller': (
         0.2,
         5.5,
@@ -50,7 +57,7 @@ BOXES = {
         2.7,
         6.2,
         0.9,
-        ['laws, paper and oracle strategies, interfaces', '(core/control)'],
+        ['laws, paper and oracle strategies, interfaces,', 'design model (core/control)'],
         '#c9d9ef',
     ),
     'sim': (6.8, 2.7, 3.0, 3.7, ['simulator +', 'engine registry', '(core/sim)'], '#c9d9ef'),
@@ -99,11 +106,11 @@ def main():
             xytext=anchor(src, False),
             arrowprops=dict(arrowstyle='->', color='#333', lw=1.2),
         )
-    # The engine registers itself: the one arrow into the core from beside it. Still there: the
-    # controller's constructor reads the plant's configuration (its parts see the design model).
+    # The engine registers itself: the one arrow into the core from beside it. The controller
+    # and the simulator do not meet: the closed loop makes the design model from the plant's
+    # configuration (designModelOf) and gives it to the controller.
     for text, xy, xytext, colour, style, align in (
         ('registerPlantEngine', (9.3, 6.4), (8.7, 8.4), '#a33', '--', 'center'),
-        ('PlantConfig', (6.8, 5.95), (6.4, 5.95), '#888', ':', 'right'),
     ):
         ax.annotate(
             text,

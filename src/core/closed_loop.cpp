@@ -3,10 +3,22 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
+
+DesignModel designModelOf(const PlantConfig& plant, const ControllerConfig& cfg) {
+  DesignModel m;
+  m.A = plant.A;
+  m.B = plant.B;
+  m.B1r = plant.B1r;
+  m.x0 = plant.x0;
+  m.output_index = plant.output_index;
+  m.limits = plant.actuator.elevator();
+  return cfg.model.over(std::move(m));
+}
 
 MetricsAccumulator::MetricsAccumulator(const std::vector<double>& switch_times, double t_end,
                                        const std::vector<Eigen::VectorXd>& window_theta) {

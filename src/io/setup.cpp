@@ -46,7 +46,7 @@ std::string defaultControllerPath() { return configDir() + "/controller/default.
 namespace {
 // Which keys a design failure is about, so the message names what to fix: the model the
 // controller designs on is controller.model.A (and .B) when that is given, else the plant's.
-std::string keysForCause(const std::string& cause, const DesignModel& model) {
+std::string keysForCause(const std::string& cause, const DesignModelSection& model) {
   const std::string a = model.A.size() > 0   ? "controller.model.A"
                         : model.B.size() > 0 ? "controller.model.B"
                                              : "plant.A";
@@ -124,7 +124,7 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
   }
   if (sections.plant && sections.controller && r.ok()) {
     try {
-      rc.design = Controller::designOf(rc.controller.designPlant(rc.plant), rc.controller);
+      rc.design = Controller::designOf(designModelOf(rc.plant, rc.controller), rc.controller);
     } catch (const SolverError& e) {
       r.fail(keysForCause(e.cause(), rc.controller.model),
              std::string(e.what()) + " [" + e.cause() + "]");

@@ -24,7 +24,7 @@ MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerN
     : ctx_(ctx),
       nh_(ctx.nh()),
       params_(params),
-      ctl_(params.run.plant, params.run.controller),
+      ctl_(designModelOf(params.run.plant, params.run.controller), params.run.controller),
       // The sequencer's guard rejects malformed samples before they reach the controller and,
       // fed the staleness clock, tells when the last valid one is older than ~stale_timeout.
       seq_(&ctl_, params.run.plant.n(), params.run.controller.sample_time, params.stale_timeout,

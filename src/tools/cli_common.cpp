@@ -211,9 +211,10 @@ PreparedRun prepare(const RunRequest& req) {
 
 std::unique_ptr<Controller> makeController(const PreparedRun& run) {
   // K and P were solved when the configuration was validated: not again.
+  const DesignModel model = designModelOf(run.cfg.plant, run.cfg.controller);
   auto ctl = run.cfg.design
-                 ? std::make_unique<Controller>(run.cfg.plant, run.cfg.controller, *run.cfg.design)
-                 : std::make_unique<Controller>(run.cfg.plant, run.cfg.controller);
+                 ? std::make_unique<Controller>(model, run.cfg.controller, *run.cfg.design)
+                 : std::make_unique<Controller>(model, run.cfg.controller);
   if (run.weights) ctl->setNetwork(*run.weights);
   return ctl;
 }

@@ -63,7 +63,7 @@ std::string runJson(const Options& opt, const Family& fam, const Job& job, const
 }
 
 void runJob(const Options& opt, const Family& fam, Job* job) {
-  Controller ctl(job->cfg.plant, job->cfg.controller);
+  Controller ctl(designModelOf(job->cfg.plant, job->cfg.controller), job->cfg.controller);
   ClosedLoop loop(job->cfg.plant, job->cfg.scenario, &ctl);
   SimOptions sim;
   sim.dt = job->cfg.controller.sample_time;

@@ -13,7 +13,7 @@ std::string runJson(RunConfig cfg, const std::string& mode, std::uint64_t seed,
                     SimResult* out = nullptr) {
   cfg.controller.mode = mode;
   cfg.controller.seed = seed;
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   ClosedLoop loop(cfg.plant, cfg.scenario, &ctl);
   SimOptions opt;
   opt.dt = cfg.controller.sample_time;
@@ -132,7 +132,7 @@ TEST(ClosedLoop, ThetaSwitchesRightAfterTheListedTime) {
 TEST(ClosedLoop, ExactModeNeedsTruth) {
   RunConfig cfg = test::packageConfig("1");
   cfg.controller.mode = "pa_learn_exact";
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   EXPECT_TRUE(ctl.needsTruth());
   Vec x = Vec::Zero(3);
   StepInput in;

@@ -315,7 +315,7 @@ TEST(ModeRegistry, EveryTableRowIsARegisteredLawAndStrategy) {
     EXPECT_STREQ(m.name, params::kModeRows[i].name);
     RunConfig cfg = test::packageConfig("1");
     cfg.controller.mode = m.name;
-    Controller ctl(cfg.plant, cfg.controller);
+    Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
     EXPECT_EQ(ctl.mode(), m.name);
     EXPECT_EQ(m.truth, ctl.needsTruth()) << m.name << ": " << ctl.truthUse();
   }
@@ -368,14 +368,14 @@ TEST(DesignModel, AbsentIsThePlantsAndGivenIsDesignedOn) {
   const RunConfig c = readRunConfig(t);
   EXPECT_EQ(c.controller.model.A, A);
   EXPECT_EQ(c.controller.model.B1r.size(), 0);  // left out: the plant's
-  const PlantConfig m = c.controller.designPlant(c.plant);
+  const DesignModel m = designModelOf(c.plant, c.controller);
   EXPECT_EQ(m.A, A);
   EXPECT_EQ(m.B, B);
   EXPECT_EQ(m.B1r, c.plant.B1r);
   EXPECT_EQ(c.plant.A, plain.plant.A);  // the plant itself is untouched
   const ControllerDesign d = designController(A, B, c.controller.Q, c.controller.R);
   EXPECT_EQ(c.design->K, d.K);
-  EXPECT_EQ(Controller(c.plant, c.controller).design().K, d.K);
+  EXPECT_EQ(Controller(designModelOf(c.plant, c.controller), c.controller).design().K, d.K);
   EXPECT_NE(d.K, own.K);
 }
 
@@ -396,9 +396,9 @@ TEST(DesignModel, EveryModeUsesTheModelNotThePlant) {
     with_model.model.A = A;
     with_model.model.B = B;
     with_model.model.B1r = B1r;
-    Controller on_model(cfg.plant, with_model);
-    Controller on_q(q, cfg.controller);
-    Controller on_p(cfg.plant, cfg.controller);
+    Controller on_model(designModelOf(cfg.plant, with_model), with_model);
+    Controller on_q(designModelOf(q, cfg.controller), cfg.controller);
+    Controller on_p(designModelOf(cfg.plant, cfg.controller), cfg.controller);
     Vec x(3), theta(3);
     theta << 2.0, -1.0, 0.5;
     bool differs_from_p = false;

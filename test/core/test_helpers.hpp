@@ -25,7 +25,7 @@ inline RunConfig packageConfig(const std::string& scenario = "1") {
 /// \brief cfg's closed loop in the batch simulator at the controller's sample time, with the
 /// time series.
 inline SimResult simulate(const RunConfig& cfg) {
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   ClosedLoop loop(cfg.plant, cfg.scenario, &ctl);
   SimOptions opt;
   opt.dt = cfg.controller.sample_time;

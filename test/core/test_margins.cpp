@@ -14,7 +14,9 @@ struct Fixture {
   ControllerFactory make;
   explicit Fixture(double gamma) : cfg(test::packageConfig("1")) {
     cfg.controller.gamma = gamma;
-    make = [this]() { return std::make_unique<Controller>(cfg.plant, cfg.controller); };
+    make = [this]() {
+      return std::make_unique<Controller>(designModelOf(cfg.plant, cfg.controller), cfg.controller);
+    };
   }
   double dt() const { return cfg.controller.sample_time; }
 };

@@ -190,13 +190,13 @@ TEST(InputGuard, RejectsMalformedSamplesWithoutRefreshingTheTimer) {
 
 TEST(InputGuard, SafeCommandIsBaselineOrZeroWithinLimits) {
   RunConfig cfg = test::packageConfig("1");
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   Vec x(3);
   x << 0.1, 0.2, -0.1;
   EXPECT_NEAR(ctl.safeCommand(x, StalePolicy::kBaselineHold), -ctl.design().K.dot(x), 1e-15);
   EXPECT_EQ(ctl.safeCommand(x, StalePolicy::kZero), 0.0);
   cfg.plant.actuator = {true, 0.4, 1.0};
-  Controller lim(cfg.plant, cfg.controller);
+  Controller lim(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   x << 0.0, 2.0, 0.0;  // baseline would ask for 2.3 rad
   EXPECT_NEAR(lim.safeCommand(x, StalePolicy::kBaselineHold), 0.001, 1e-15);  // rate-limited
 }

@@ -16,7 +16,7 @@ constexpr double kDt = 0.001, kTimeout = 0.05;
 
 struct Fixture {
   RunConfig cfg = test::packageConfig("1");
-  Controller ctl{cfg.plant, cfg.controller};
+  Controller ctl{designModelOf(cfg.plant, cfg.controller), cfg.controller};
   StepSequencer seq{&ctl, cfg.plant.n(), kDt, kTimeout, StalePolicy::kBaselineHold};
   Vec x = Vec::Zero(3);
 
@@ -49,7 +49,7 @@ StepOutput stepDirect(Controller* c, std::uint64_t step) {
 
 TEST(StepSequencer, InOrderStatesStepTheControllerAsADirectCallWould) {
   Fixture f;
-  Controller ref(f.cfg.plant, f.cfg.controller);
+  Controller ref(designModelOf(f.cfg.plant, f.cfg.controller), f.cfg.controller);
   for (std::uint64_t k = 0; k < 50; ++k) {
     const SampleOutcome o = f.send(k);
     ASSERT_EQ(o.kind, SampleOutcome::Kind::kStepped) << k;
@@ -62,7 +62,7 @@ TEST(StepSequencer, InOrderStatesStepTheControllerAsADirectCallWould) {
 
 TEST(StepSequencer, ARepeatIsNotSteppedAGapIsCountedARestartResets) {
   Fixture f;
-  Controller ref(f.cfg.plant, f.cfg.controller);
+  Controller ref(designModelOf(f.cfg.plant, f.cfg.controller), f.cfg.controller);
   for (std::uint64_t k = 0; k < 5; ++k) f.send(k), stepDirect(&ref, k);
   EXPECT_EQ(f.send(4).kind, SampleOutcome::Kind::kRepeated);
   EXPECT_EQ(f.seq.steps(), 5);
@@ -78,7 +78,7 @@ TEST(StepSequencer, ARepeatIsNotSteppedAGapIsCountedARestartResets) {
   ASSERT_EQ(restart.kind, SampleOutcome::Kind::kStepped);
   ASSERT_TRUE(restart.restarted_after);
   EXPECT_EQ(*restart.restarted_after, 9u);
-  Controller fresh(f.cfg.plant, f.cfg.controller);
+  Controller fresh(designModelOf(f.cfg.plant, f.cfg.controller), f.cfg.controller);
   EXPECT_EQ(restart.out.u, stepDirect(&fresh, 0).u);
   EXPECT_EQ(f.seq.restarts(), 1);
 }

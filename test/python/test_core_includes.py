@@ -23,6 +23,8 @@ class TestCoreIncludes(unittest.TestCase):
         self.assertNotRegex(out.stdout, r'(?m)-> jsbsim ')
         self.assertNotRegex(out.stdout, r'(?m)^(control|robust) +-> controller ')
         self.assertNotRegex(out.stdout, r'(?m)^control +-> robust ')
+        self.assertNotRegex(out.stdout, r'(?m)^(control|robust|controller) +-> sim ')
+        self.assertNotIn('apart: ', out.stdout)
 
     def run_on_copy_with(self, path, include):
         """The script on a copy of the core where `path` gains `include`."""
@@ -39,15 +41,28 @@ class TestCoreIncludes(unittest.TestCase):
                 check=False,
             )
 
+    def assert_each_fails(self, cases, marker):
+        """Each (path, include) added alone makes the script fail and print `marker`."""
+        for path, include in cases:
+            out = self.run_on_copy_with(path, include)
+            self.assertEqual(out.returncode, 1, path + ' -> ' + include + '\n' + out.stdout)
+            self.assertIn(marker, out.stdout)
+
     def test_an_upward_include_fails(self):
-        for path, include in (
+        cases = (
             ('src/core/control/mrac_law.cpp', 'core/controller/controller_config.hpp'),
             ('src/core/control/network.cpp', 'core/robust/regime_memory.hpp'),
             ('src/core/robust/robust_config.cpp', 'core/controller/mode_registry.hpp'),
-        ):
-            out = self.run_on_copy_with(path, include)
-            self.assertEqual(out.returncode, 1, path + ' -> ' + include + '\n' + out.stdout)
-            self.assertIn('upward: ', out.stdout)
+        )
+        self.assert_each_fails(cases, 'upward: ')
+
+    def test_the_controller_including_the_simulator_fails(self):
+        cases = (
+            ('src/core/controller/controller.cpp', 'core/sim/plant.hpp'),
+            ('src/core/robust/robust_config.cpp', 'params/plant_params.hpp'),
+            ('include/preadaptive_mrac/core/control/mode_context.hpp', 'core/sim/scenario.hpp'),
+        )
+        self.assert_each_fails(cases, 'apart: ')
 
 
 if __name__ == '__main__':

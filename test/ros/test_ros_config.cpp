@@ -45,7 +45,7 @@ TEST(ControllerRecovery, NonFiniteStateAnswersWithTheBaseline) {
   tree.merge(pm::loadYamlFile(pm::defaultControllerPath()));
   tree.merge(pm::loadYamlFile(pm::scenarioPath("1")));
   const pm::RunConfig rc = pm::readRunConfig(tree);
-  pm::Controller ctl(rc.plant, rc.controller);
+  pm::Controller ctl(designModelOf(rc.plant, rc.controller), rc.controller);
   const int n = rc.plant.n();
   pm::Vec x = pm::Vec::Constant(n, 0.01);
   pm::StepInput in;

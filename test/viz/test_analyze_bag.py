@@ -34,6 +34,8 @@ sys.path.insert(
 
 import synthetic  # noqa: E402
 from preadaptive_mrac import analysis as pa  # noqa: E402
+from preadaptive_mrac.analysis import figure_style  # noqa: E402
+from preadaptive_mrac.analysis import runs as run_records  # noqa: E402
 
 PY = '/usr/bin/python3' if os.path.exists('/usr/bin/python3') else sys.executable
 
@@ -235,7 +237,7 @@ class TestCompareBag(unittest.TestCase):
         runs = pa.load_runs(self.f.compare_bag)
         run = [r for r in runs if r.label == 'pa'][0]
         m = pa.run_metrics(run)
-        plt = pa._mpl()
+        plt = figure_style._mpl()
         captured = {}
         orig = plt.subplots
 
@@ -371,7 +373,7 @@ class TestDecisions(unittest.TestCase):
         import matplotlib
 
         matplotlib.use('Agg')
-        plt = pa._mpl()
+        plt = figure_style._mpl()
         captured = {}
         orig = plt.subplots
 
@@ -420,7 +422,7 @@ class TestDecisions(unittest.TestCase):
         finals = pa.final_decisions([dict(ev, type=ev['type_name']) for ev in want])
         self.assertEqual(len(texts), len(finals))
         for d in finals:
-            self.assertIn(pa._decision_text(d), texts)
+            self.assertIn(figure_style._decision_text(d), texts)
         self.assertTrue(
             any(a.get_text().startswith('memory #') for a in axes[0].texts)
             or all(d['decision'] != 'memory' for d in finals)
@@ -449,11 +451,11 @@ class TestDecisions(unittest.TestCase):
             decision='', decision_code=3, chosen=2, candidates=5, score=0.001, score_keep=0.1
         )
         self.assertEqual(
-            pa._msg_decision(m),
+            run_records._msg_decision(m),
             {'decision': 'memory', 'chosen': 2, 'candidates': 5, 'score': 0.001, 'score_keep': 0.1},
         )
         m.decision_code = 0
-        self.assertIsNone(pa._msg_decision(m)['decision'])
+        self.assertIsNone(run_records._msg_decision(m)['decision'])
         cls = self.f.classes['AttentionEvent']
         self.assertEqual(cls.DECISION, 4)
         self.assertEqual(pa.EVENT_TYPES[cls.DECISION], 'decision')

@@ -14,6 +14,7 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(ROOT, 'src'))
 import synthetic  # noqa: E402
 from preadaptive_mrac import analysis as pa  # noqa: E402
+from preadaptive_mrac.analysis import figure_style  # noqa: E402
 
 
 def param_change_class():
@@ -71,10 +72,10 @@ class TestParamChange(unittest.TestCase):
         self.assertEqual(plain.param_changes, [])
 
     def test_markers_drawn(self):
-        plt = pa._mpl()
+        plt = figure_style._mpl()
         (run,) = pa.load_runs(self.bag)
         fig, ax = plt.subplots()
-        lines = pa._param_change_lines(ax, run)
+        lines = figure_style._param_change_lines(ax, run)
         self.assertEqual(len(lines), 1)  # one line for the two changes of one step
         self.assertEqual(list(lines[0].get_xdata()), [6.5, 6.5])
         texts = [t.get_text() for t in ax.texts]

@@ -13,6 +13,12 @@
 
 namespace preadaptive_mrac {
 
+/// \brief The plant as the controller knows it: the plant's A, B, B1r, x0, output and elevator
+/// limits, with A, B and B1r replaced by those `cfg.model` (`controller.model`) gives. The one
+/// place where the simulator's configuration meets the controller's: the controller itself
+/// never sees the PlantConfig (its noise, turbulence, servo dynamics or engine).
+DesignModel designModelOf(const PlantConfig& plant, const ControllerConfig& cfg);
+
 /// \brief Metrics of one window between consecutive theta switches.
 struct WindowMetrics {
   double t_start = 0.0, t_end = 0.0;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 #include "preadaptive_mrac/params/controller_params.hpp"
@@ -110,9 +111,9 @@ void L1Law::advance(const Vec& x, double r, double u_ad_applied, bool adapt) {
 
 std::unique_ptr<AdaptiveLaw> makeL1Law(const ModeContext& m) {
   const ControllerParams& c = *m.cfg;
-  const Vec b_ref = *m.B1r + c.k0 * *m.B;
+  const Vec b_ref = m.model->B1r + c.k0 * *m.B;
   return std::make_unique<L1Law>(*m.design, *m.B, b_ref, c.k0, *m.l1, c.sample_time, c.theta_hat0,
-                                 *m.x0);
+                                 m.model->x0);
 }
 
 }  // namespace preadaptive_mrac

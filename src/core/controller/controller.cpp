@@ -8,27 +8,21 @@
 #include "preadaptive_mrac/core/controller/tunables.hpp"
 #include "preadaptive_mrac/core/robust/regime_memory.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
-#include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 
 namespace preadaptive_mrac {
 
-// The controller knows the plant only through its design model (controller.model; the plant's
-// A, B, B1r where a part is absent): the LQR, the reference model and every law and strategy
-// below are built on `model`, never on the plant's own matrices.
-Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg)
-    : Controller(plant, cfg, designOf(cfg.designPlant(plant), cfg)) {}
+// The controller knows the plant only through its design model: the LQR, the reference model
+// and every law and strategy below are built on `model`.
+Controller::Controller(const DesignModel& model, const ControllerConfig& cfg)
+    : Controller(model, cfg, designOf(model, cfg)) {}
 
-ControllerDesign Controller::designOf(const PlantConfig& model, const ControllerConfig& cfg) {
+ControllerDesign Controller::designOf(const DesignModel& model, const ControllerConfig& cfg) {
   return designController(model.A, model.B, cfg.Q, cfg.R);
 }
 
-Controller::Controller(const PlantConfig& plant, const ControllerConfig& cfg,
+Controller::Controller(const DesignModel& model, const ControllerConfig& cfg,
                        const ControllerDesign& design)
-    : Controller(cfg.designPlant(plant), cfg, design, 0) {}
-
-Controller::Controller(const PlantConfig& model, const ControllerConfig& cfg,
-                       const ControllerDesign& design, int)
     : cfg_(cfg),
       design_(design),
       n_(model.n()),
@@ -50,10 +44,10 @@ Controller::Controller(const PlantConfig& model, const ControllerConfig& cfg,
   x0_ = model.x0;
   ev_.setZero(n_);
   // Hedging needs limits the controller knows; without them nothing is ever limited.
-  hedge_ = cfg.hedging == Hedging::kPch && model.actuator.enabled;
+  hedge_ = cfg.hedging == Hedging::kPch && model.limits.enabled;
   Gam_b_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * B_;
   ev_h_.setZero(n_);
-  limits_ = model.actuator;
+  limits_ = model.limits;
   const ModeEntry* mode = findMode(cfg.mode);
   if (mode == nullptr)
     throw std::invalid_argument("controller.mode: expected one of " + modeNames(", ") + ", got '" +
@@ -62,13 +56,10 @@ Controller::Controller(const PlantConfig& model, const ControllerConfig& cfg,
   ctx.cfg = &cfg_;
   ctx.l1 = &cfg_.l1;
   ctx.robust = &cfg_.robust;
-  ctx.A = &model.A;
-  ctx.B1r = &model.B1r;
-  ctx.x0 = &model.x0;
+  ctx.model = &model;  // the factories copy what they keep
   ctx.design = &design_;
   ctx.B = &B_;
   ctx.PB = &PB_;
-  ctx.out = out_;
   ctx.net = &net_;
   law_ = mode->make_law(ctx);
   mrac_ = dynamic_cast<MracLaw*>(law_.get());

@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/schema/param_table.hpp"
-#include "preadaptive_mrac/core/sim/plant.hpp"
 
 namespace preadaptive_mrac {
 
@@ -70,12 +69,11 @@ void ControllerConfig::validate(ParamReader& r, int n, const std::string& p) con
   }
 }
 
-PlantConfig ControllerConfig::designPlant(const PlantConfig& plant) const {
-  PlantConfig m = plant;
-  if (model.A.size() > 0) m.A = model.A;
-  if (model.B.size() > 0) m.B = model.B;
-  if (model.B1r.size() > 0) m.B1r = model.B1r;
-  return m;
+DesignModel DesignModelSection::over(DesignModel model) const {
+  if (A.size() > 0) model.A = A;
+  if (B.size() > 0) model.B = B;
+  if (B1r.size() > 0) model.B1r = B1r;
+  return model;
 }
 
 ControllerTunables ControllerTunables::of(const ControllerConfig& c) {

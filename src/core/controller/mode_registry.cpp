@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/l1_law.hpp"
 #include "preadaptive_mrac/core/control/mrac_law.hpp"
 #include "preadaptive_mrac/core/control/oracle_preadaptation.hpp"
@@ -16,7 +17,8 @@ namespace {
 
 template <PaperPreadaptation::Variant V>
 std::unique_ptr<PreadaptationStrategy> makePaper(const ModeContext& m) {
-  return std::make_unique<PaperPreadaptation>(V, *m.cfg, *m.design, *m.B, *m.PB, m.out, m.net);
+  return std::make_unique<PaperPreadaptation>(V, *m.cfg, *m.design, *m.B, *m.PB,
+                                              m.model->output_index, m.net);
 }
 
 using P = PaperPreadaptation::Variant;

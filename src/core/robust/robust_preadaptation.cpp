@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "preadaptive_mrac/core/control/attention.hpp"
+#include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
 #include "preadaptive_mrac/core/robust/regime_decision.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
@@ -450,7 +451,7 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
 }
 
 std::unique_ptr<PreadaptationStrategy> makeRobustPreadaptation(const ModeContext& m) {
-  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.robust, *m.A, *m.B, *m.B1r,
+  return std::make_unique<RobustPreadaptation>(*m.cfg, *m.robust, m.model->A, *m.B, m.model->B1r,
                                                Vec(m.design->K.transpose()), m.net);
 }
 

@@ -104,10 +104,7 @@ void PlantConfig::validateJsbsim(ParamReader& r, const std::string& prefix) cons
 }
 
 double ActuatorLimits::apply(double u, double u_prev, double dt) const {
-  if (!enabled) return u;
-  const double step = max_rate * dt;
-  double v = std::min(std::max(u, u_prev - step), u_prev + step);
-  return std::min(std::max(v, -max_deflection), max_deflection);
+  return elevator().apply(u, u_prev, dt);
 }
 
 double GaussianSource::next() {

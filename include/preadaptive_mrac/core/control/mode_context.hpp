@@ -9,6 +9,7 @@ namespace preadaptive_mrac {
 
 struct ControllerDesign;
 struct ControllerParams;
+struct DesignModel;
 struct L1Config;
 struct RobustParams;
 class PreadaptNetwork;
@@ -22,12 +23,9 @@ struct ModeContext {
   const L1Config* l1 = nullptr;           ///< `controller.l1`
   const RobustParams* robust = nullptr;   ///< `controller.robust`
   const ControllerDesign* design = nullptr;
-  const Eigen::MatrixXd* A = nullptr;    ///< design model's A
-  const Eigen::VectorXd* B1r = nullptr;  ///< design model's B1r
-  const Eigen::VectorXd* x0 = nullptr;   ///< initial state the controller assumes
-  const Vec* B = nullptr;                ///< plant input vector
-  const Vec* PB = nullptr;               ///< P B
-  int out = 1;                           ///< index of the output alpha in x
+  const DesignModel* model = nullptr;  ///< the plant as the controller knows it (design_model.hpp)
+  const Vec* B = nullptr;              ///< the design model's B
+  const Vec* PB = nullptr;             ///< P B
   PreadaptNetwork* net = nullptr;
 };
 

@@ -10,6 +10,7 @@
 
 #include "preadaptive_mrac/core/control/adaptive_law.hpp"
 #include "preadaptive_mrac/core/control/attention.hpp"
+#include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/event.hpp"
 #include "preadaptive_mrac/core/control/input_guard.hpp"
 #include "preadaptive_mrac/core/control/mrac_law.hpp"
@@ -17,7 +18,6 @@
 #include "preadaptive_mrac/core/control/preadaptation.hpp"
 #include "preadaptive_mrac/core/control/velocity_estimator.hpp"
 #include "preadaptive_mrac/core/controller/controller_config.hpp"
-#include "preadaptive_mrac/core/sim/plant.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
@@ -58,15 +58,16 @@ struct StepOutput {
 /// adaptivecontrol) and the sensitivity advance to t_k + dt.
 class Controller {
  public:
-  /// \brief Derives K (CARE) and P (Lyapunov) from the design model's A, B (cfg.model, the
-  /// plant's where absent: ControllerConfig::designPlant) and the config's Q, R; throws
-  /// SolverError when that is impossible. The plant is known only through that model.
-  Controller(const PlantConfig& plant, const ControllerConfig& cfg);
-  /// \brief The same with K and P already solved: `design` must be designOf() the design
-  /// model (RunConfig::design).
-  Controller(const PlantConfig& plant, const ControllerConfig& cfg, const ControllerDesign& design);
-  /// \brief K and P of a design model (cfg.designPlant(plant)) with cfg's Q and R.
-  static ControllerDesign designOf(const PlantConfig& model, const ControllerConfig& cfg);
+  /// \brief Derives K (CARE) and P (Lyapunov) from the design model's A, B and the config's
+  /// Q, R; throws SolverError when that is impossible. The plant is known only through `model`
+  /// (designModelOf in closed_loop.hpp builds it from the plant's and the controller's
+  /// configuration).
+  Controller(const DesignModel& model, const ControllerConfig& cfg);
+  /// \brief The same with K and P already solved: `design` must be designOf(model, cfg)
+  /// (RunConfig::design).
+  Controller(const DesignModel& model, const ControllerConfig& cfg, const ControllerDesign& design);
+  /// \brief K and P of a design model with cfg's Q and R.
+  static ControllerDesign designOf(const DesignModel& model, const ControllerConfig& cfg);
   /// \brief A snapshot: the copy has its own network and strategy state.
   Controller(const Controller& other);
   Controller& operator=(const Controller& other);
@@ -115,9 +116,6 @@ class Controller {
   bool keepsAtRecovery() const { return strategy_->keepsAtRecovery(); }
 
  private:
-  /// The constructor proper: `model` is the design model (cfg.designPlant of the plant).
-  Controller(const PlantConfig& model, const ControllerConfig& cfg, const ControllerDesign& design,
-             int);
   ControllerConfig cfg_;
   ControllerDesign design_;
   int n_, out_;
@@ -133,7 +131,7 @@ class Controller {
   bool hedge_ = false;
   Vec Gam_b_;  // RK4 input vector of B over dt
   Vec x_h_, ev_h_;
-  ActuatorLimits limits_;
+  ElevatorLimits limits_;
   double u_prev_ = 0.0;      // last command sent (the rate limiter's memory; safeCommand too)
   double u_cmd_prev_ = 0.0;  // last answer of step() (what the plant applies in lockstep)
   double r_prev_ = 0.0;

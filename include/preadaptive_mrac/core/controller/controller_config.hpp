@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <string>
 
+#include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/l1_config.hpp"
 #include "preadaptive_mrac/core/robust/robust_config.hpp"
 #include "preadaptive_mrac/core/types.hpp"
@@ -17,26 +18,24 @@
 namespace preadaptive_mrac {
 
 class ParamReader;
-struct PlantConfig;
 
-/// \brief The controller's own design model (optional section `controller.model`):
-/// each part left out (size 0 here) is the plant's.
-struct DesignModel {
+/// \brief The controller's own parts of its design model (optional section
+/// `controller.model`): each part left out (size 0 here) is the plant's.
+struct DesignModelSection {
   Eigen::MatrixXd A;    ///< `controller.model.A` (empty: `plant.A`)
   Eigen::VectorXd B;    ///< `controller.model.B` (empty: `plant.B`)
   Eigen::VectorXd B1r;  ///< `controller.model.B1r` (empty: `plant.B1r`)
   bool empty() const { return A.size() == 0 && B.size() == 0 && B1r.size() == 0; }
+  /// \brief `model` (the plant's, as the set-up gives it) with A, B and B1r replaced by those
+  /// given here (unchanged when the section is empty: the same values).
+  DesignModel over(DesignModel model) const;
 };
 
 /// \brief Controller parameters (key `controller`); see config/controller/default.yaml.
 struct ControllerConfig : ControllerParams {
-  RobustConfig robust;  ///< pa_robust (optional section `controller.robust`)
-  L1Config l1;          ///< mode l1 (optional section `controller.l1`; docs/research/l1.md)
-  DesignModel model;    ///< what the controller designs on (optional `controller.model`)
-
-  /// \brief The plant as the controller knows it: `plant` with A, B and B1r replaced by those
-  /// of `model` that are given (the plant's own when `model` is empty: the same values).
-  PlantConfig designPlant(const PlantConfig& plant) const;
+  RobustConfig robust;       ///< pa_robust (optional section `controller.robust`)
+  L1Config l1;               ///< mode l1 (optional section `controller.l1`; docs/research/l1.md)
+  DesignModelSection model;  ///< what the controller designs on (optional `controller.model`)
 
   /// \brief Read the `controller` section for a plant of n states; problems go to the reader.
   /// The mode's name is checked against the registry where the parts are put together

@@ -6,6 +6,7 @@
 #include <random>
 #include <string>
 
+#include "preadaptive_mrac/core/elevator_limits.hpp"
 #include "preadaptive_mrac/core/sim/envelope.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 #include "preadaptive_mrac/params/plant_params.hpp"
@@ -21,8 +22,10 @@ class ParamReader;
 /// enabled, max_deflection [rad] (|u| <= it), max_rate [rad/s] (|du/dt| <= it).
 struct ActuatorLimits : ActuatorLimitsParams {
   /// \brief The deflection the actuator reaches over one step of dt [s] when commanded u
-  /// from u_prev [rad]: rate-limited, then clamped. The identity when disabled.
+  /// from u_prev [rad]: ElevatorLimits::apply, the rule the controller applies too.
   double apply(double u, double u_prev, double dt) const;
+  /// \brief The same limits as the controller knows them (DesignModel::limits).
+  ElevatorLimits elevator() const { return ElevatorLimits{enabled, max_deflection, max_rate}; }
 };
 
 /// \brief Largest plant.actuator.delay accepted [s] (the delay line's memory is delay / dt).

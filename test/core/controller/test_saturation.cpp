@@ -81,7 +81,7 @@ TEST(Saturation, HedgedLawDoesNotAdaptOnTheLimitsError) {
       cfg.scenario.theta.clear();
       cfg.scenario.theta.push_back({8.0, theta});
       cfg.scenario.reference = {{1.0, 0.1}, {4.0, 0.4}, {8.0, -0.1}};
-      Controller ctl(cfg.plant, cfg.controller);
+      Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
       ScenarioPlant plant(cfg.plant, cfg.scenario, cfg.controller.sample_time);
       double worst = 0.0;
       int limited_steps = 0;

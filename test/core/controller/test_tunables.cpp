@@ -26,7 +26,7 @@ Trace run(const RunConfig& rc, const std::string& mode, std::int64_t steps,
           const std::function<void(std::int64_t, Controller*)>& hook) {
   ControllerConfig cc = rc.controller;
   cc.mode = mode;
-  Controller ctl(rc.plant, cc);
+  Controller ctl(designModelOf(rc.plant, cc), cc);
   ScenarioPlant plant(rc.plant, rc.scenario, cc.sample_time);
   Trace tr;
   for (std::int64_t k = 0; k < steps && !plant.done(); ++k) {
@@ -100,7 +100,7 @@ TEST(Tunables, ChangeTakesEffectAtTheNextStep) {
 
 TEST(Tunables, InvalidValuesAreRefusedNamingTheKey) {
   const RunConfig rc = test::packageConfig("1");
-  Controller ctl(rc.plant, rc.controller);
+  Controller ctl(designModelOf(rc.plant, rc.controller), rc.controller);
   const ControllerTunables before = ctl.tunables();
   auto refused = [&](const ControllerTunables& t, const std::string& key) {
     try {

@@ -29,7 +29,7 @@ PhaseResult fixedPhase(const RunConfig& base, const std::string& mode, const Vec
   sc.theta = {{2.0, Eigen::VectorXd::Constant(3, 0.1)},
               {4.0 + length + 1.0, Eigen::VectorXd::Constant(3, 2.0)}};
   sc.reference = {{4.0 + length + 1.0, 0.1}};
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   const double dt = cfg.controller.sample_time;
   ScenarioPlant sim(cfg.plant, sc, dt);
   const auto k_u = static_cast<std::int64_t>(std::llround(4.0 / dt));

@@ -57,7 +57,7 @@ SimResult run(const RunConfig& cfg, Controller* ctl, bool series = false) {
 // cfg's run in another mode.
 SimResult runAs(RunConfig cfg, const std::string& mode) {
   cfg.controller.mode = mode;
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   return run(cfg, &ctl);
 }
 
@@ -112,7 +112,7 @@ TEST(Robust, MemoryStaysBoundedOverALongRun) {
   spec.regimes = 5;
   spec.segments = 12;
   cfg.scenario = recurringScenario(spec, 7, 0);
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   run(cfg, &ctl);
   EXPECT_LE(ctl.network().state().regimes.size(), 2u);
   EXPECT_GE(ctl.network().state().regimes.size(), 1u);
@@ -127,7 +127,7 @@ TEST(Robust, NoiseOnlyTriggersMoveNothing) {
   cfg.plant.noise.std = vec3(0.0, 1e-4, 1e-4);
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     cfg.plant.noise.seed = seed;
-    Controller ctl(cfg.plant, cfg.controller);
+    Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
     const SimResult res = run(cfg, &ctl);
     for (const Event& ev : res.events) {
       EXPECT_EQ((ev.theta_hat_after - ev.theta_hat_before).cwiseAbs().maxCoeff(), 0.0)
@@ -136,7 +136,7 @@ TEST(Robust, NoiseOnlyTriggersMoveNothing) {
     }
     RunConfig rac = cfg;
     rac.controller.mode = "rac";
-    Controller rc(rac.plant, rac.controller);
+    Controller rc(designModelOf(rac.plant, rac.controller), rac.controller);
     const SimResult rr = run(rac, &rc);
     EXPECT_LE(res.metrics.iae, 1.05 * rr.metrics.iae) << "seed " << seed;
   }
@@ -148,7 +148,7 @@ TEST(Robust, VerificationRejectsABadRememberedRegime) {
   RunConfig cfg = robustConfig();
   const Vec a = vec3(4.0, 6.0, 2.0), b = vec3(0.8, 1.2, 0.5), bad = vec3(-8.0, 9.0, -6.0);
   cfg.scenario = abab(a, b);
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   LearnedState s = ctl.network().state();
   s.regimes.push_back(RegimeEntry{bad, 5, 1});
   s.regimes.push_back(RegimeEntry{a, 1, 2});
@@ -172,7 +172,7 @@ TEST(Robust, RememberedRegimesCarryOverThroughTheWeightsFile) {
   RunConfig cfg = robustConfig();
   const Vec a = vec3(4.0, 6.0, 2.0), b = vec3(0.8, 1.2, 0.5);
   cfg.scenario = abab(a, b);
-  Controller first(cfg.plant, cfg.controller);
+  Controller first(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   run(cfg, &first);
   ASSERT_GE(first.network().state().regimes.size(), 2u);
   char tmpl[] = "/tmp/pmrac_robust_XXXXXX";
@@ -191,7 +191,7 @@ TEST(Robust, RememberedRegimesCarryOverThroughTheWeightsFile) {
       if (ev.t >= 5.0 && ev.decision != Event::Decision::kNone) return ev;
     return Event();
   };
-  Controller second(cfg.plant, cfg.controller);
+  Controller second(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   second.setNetwork(loaded);
   const Event with = firstDecisionAfterSwitch(run(cfg, &second));
   EXPECT_EQ(with.decision, Event::Decision::kMemory) << decisionName(with.decision);
@@ -201,7 +201,7 @@ TEST(Robust, RememberedRegimesCarryOverThroughTheWeightsFile) {
   const Vec& recalled = loaded.regimes[static_cast<size_t>(with.chosen)].theta;
   EXPECT_LT((with.theta_hat_after - recalled).norm(), (with.theta_hat_before - recalled).norm());
   EXPECT_LT(with.score, 0.2 * with.score_keep);
-  Controller fresh(cfg.plant, cfg.controller);
+  Controller fresh(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   const Event without = firstDecisionAfterSwitch(run(cfg, &fresh));
   EXPECT_NE(without.decision, Event::Decision::kMemory);
 }
@@ -213,7 +213,7 @@ TEST(Robust, ResetsStayInOmegaWithProjection) {
     cfg.controller.projection = true;
     cfg.controller.theta_max = 3.0;
     cfg.scenario = abab(vec3(4.0, 6.0, 2.0), vec3(0.8, 1.2, 0.5));
-    Controller ctl(cfg.plant, cfg.controller);
+    Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
     LearnedState s = ctl.network().state();
     s.regimes.push_back(RegimeEntry{vec3(4.0, 6.0, 2.0), 1, 1});  // outside Omega
     ctl.setNetwork(s);
@@ -271,7 +271,7 @@ TEST(Robust, LongWindowCatchesASmallSlowMismatchInNoise) {
   auto firstOnsetAfter = [&](double long_window) {
     RunConfig c = cfg;
     c.controller.robust.long_window = long_window;
-    Controller ctl(c.plant, c.controller);
+    Controller ctl(designModelOf(c.plant, c.controller), c.controller);
     for (const Event& ev : run(c, &ctl).events)
       if (ev.type == Event::Type::kOnset && ev.t > t_switch) return ev.t - t_switch;
     return 1e9;
@@ -354,7 +354,7 @@ std::vector<double> lockstepTheta(ElevatorFeedback feedback, bool pass_applied) 
   cfg.plant.dynamics.delay = 0.04;
   cfg.plant.dynamics.time_constant = 0.05;
   cfg.controller.elevator_feedback = feedback;
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   ScenarioPlant plant(cfg.plant, cfg.scenario, cfg.controller.sample_time);
   std::vector<double> th;
   for (int k = 0; k < 25000 && !plant.done(); ++k) {  // past the switch at 20 s
@@ -425,7 +425,7 @@ TEST(Robust, LossOfEffectivenessIsIdentifiedWithEachRegime) {
   // With the excitation on, every banked regime carries nu = 1 - Lambda: the regime with
   // Lambda 0.42 (nu 0.58) is found well beyond 3 standard deviations, near its value.
   RunConfig cfg = lossConfig(true);
-  Controller ctl(cfg.plant, cfg.controller);
+  Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   run(cfg, &ctl);
   double best_z = 0.0, best_loss = 0.0;
   for (const RegimeEntry& e : ctl.network().state().regimes) {
@@ -436,7 +436,7 @@ TEST(Robust, LossOfEffectivenessIsIdentifiedWithEachRegime) {
   EXPECT_NEAR(best_loss, 0.58, 0.15);
   // On the ideal plant no regime's loss is significant: nothing will be extrapolated.
   RunConfig ideal = lossConfig(false);
-  Controller ictl(ideal.plant, ideal.controller);
+  Controller ictl(designModelOf(ideal.plant, ideal.controller), ideal.controller);
   run(ideal, &ictl);
   ASSERT_GE(ictl.network().state().regimes.size(), 2u);
   for (const RegimeEntry& e : ictl.network().state().regimes) {
@@ -445,7 +445,7 @@ TEST(Robust, LossOfEffectivenessIsIdentifiedWithEachRegime) {
   }
   // Without the excitation nothing identifies it: no regime carries a loss.
   cfg.controller.robust.excitation = 0.0;
-  Controller quiet(cfg.plant, cfg.controller);
+  Controller quiet(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   run(cfg, &quiet);
   for (const RegimeEntry& e : quiet.network().state().regimes) EXPECT_EQ(e.loss_info, 0.0);
 }
@@ -459,10 +459,10 @@ TEST(Robust, RememberedLossCutsTheReturnPeak) {
   RunConfig cfg = lossConfig(true);
   cfg.controller.robust.error_feedback = 0.0;
   cfg.controller.robust.threshold = 0.005;
-  Controller with(cfg.plant, cfg.controller);
+  Controller with(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   const SimResult a = run(cfg, &with);
   cfg.controller.robust.loss_max = 0.0;
-  Controller without(cfg.plant, cfg.controller);
+  Controller without(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   const SimResult b = run(cfg, &without);
   ASSERT_EQ(a.metrics.windows.size(), 5u);
   EXPECT_LT(a.metrics.windows[4].peak_abs_e, 0.7 * b.metrics.windows[4].peak_abs_e)
