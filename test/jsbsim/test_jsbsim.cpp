@@ -189,8 +189,9 @@ TEST(Jsbsim, LinearisationMatchesConditionNine) {
   LineariseOptions opt;
   opt.duration = 3.0;
   const LinearModel lm = lineariseJsbsim(&p, opt);
-  // Heffley and Jewell's condition 9 (shared/data/b747_heffley.md): Z_alpha/mU -0.310,
-  // 1 + Z_q/mU 0.987, M_alpha/Iy -0.794, M_q/Iy -0.425, Z_delta/mU -0.023, M_delta/Iy -1.152.
+  // Condition 9 of R. K. Heffley and W. F. Jewell, "Aircraft Handling Qualities Data", NASA
+  // CR-2144 (1972) (jsbsim/README.md [HJ]): Z_alpha/mU -0.310, 1 + Z_q/mU 0.987, M_alpha/Iy
+  // -0.794, M_q/Iy -0.425, Z_delta/mU -0.023, M_delta/Iy -1.152.
   // Z_alpha is the least well determined (the slow speed mode leaks into alphadot).
   EXPECT_NEAR(lm.A(1, 1), -0.310, 0.03);
   EXPECT_NEAR(lm.A(1, 2), 0.987, 0.01);
