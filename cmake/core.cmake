@@ -113,12 +113,13 @@ target_link_libraries(preadaptive_mrac_cli PUBLIC preadaptive_mrac_io Threads::T
 target_link_libraries(preadaptive_mrac_cli_static PUBLIC preadaptive_mrac_io_static Threads::Threads)
 pmrac_link_engines(preadaptive_mrac_cli SHARED)
 
-add_executable(preadapt_sim src/tools/preadapt_sim.cpp)
+add_executable(preadapt_sim src/tools/preadapt_sim.cpp src/tools/aircraft_elevator.cpp)
 target_link_libraries(preadapt_sim preadaptive_mrac_cli_static)
 add_executable(preadapt_sweep src/tools/preadapt_sweep.cpp)
 target_link_libraries(preadapt_sweep preadaptive_mrac_cli_static)
 add_executable(preadapt_family src/tools/preadapt_family.cpp src/tools/family_draw.cpp
-               src/tools/family_run.cpp src/tools/family_report.cpp)
+               src/tools/family_run.cpp src/tools/family_report.cpp
+               src/tools/aircraft_elevator.cpp)
 target_link_libraries(preadapt_family preadaptive_mrac_cli_static)
 add_executable(preadapt_margins src/tools/preadapt_margins.cpp)
 target_link_libraries(preadapt_margins preadaptive_mrac_cli_static)

@@ -9,6 +9,7 @@
 #include <limits>
 #include <thread>
 
+#include "aircraft_elevator.hpp"
 #include "family_tool.hpp"
 #include "preadaptive_mrac/core/controller/mode_registry.hpp"
 
@@ -39,9 +40,9 @@ const char* kAbout =
     "scenario's true A and B and the factors (docs/mismatch.md). --faults (plant.engine jsbsim "
     "only) gives each regime physical faults of the aircraft, drawn per regime from the family "
     "seed like --effectiveness LO:HI, the first segment nominal (docs/jsbsim.md). Every run flies "
-    "the aircraft's elevator (--elevator b747: config/plant/elevator_b747.yaml over the plant "
-    "file, travel 0.35 rad, rate 0.65 rad/s; --elevator ideal: the plant file alone, the paper's "
-    "unlimited elevator), and with limits on the generator draws only regimes whose trim "
+    "the aircraft's elevator (by default an ordinary JSBSim aircraft's own, else --elevator "
+    "b747: config/plant/elevator_b747.yaml over the plant file, travel 0.35 rad, rate 0.65 "
+    "rad/s; --elevator ideal: the plant file alone, the paper's unlimited elevator), and with limits on the generator draws only regimes whose trim "
     "deflection is within --trim-fraction of the travel, saying how many it rejected. Beside the "
     "ratios each mode's elevator effort: peak |u| applied, time at the travel and rate limits, "
     "steady-flight total variation, fraction of each switch window at a limit. Exit code 2 on "
@@ -103,15 +104,16 @@ struct OptionText {
   cli::RunOptionText run;
   std::string seed, count, modes, noise, regimes, segments, ref, jobs;
   std::string delay, lag, lambda, gust, mismatch, faults;
-  std::string elevator = "b747", trim;
+  std::string elevator, trim;
 };
 
 void addOptions(CLI::App& app, family::Options* opt, OptionText* t) {
   cli::addRunOptions(app, &opt->base, &t->run, false);
   cli::addText(app, "--elevator", &t->elevator,
-               "the elevator's travel and rate: b747 (default, config/plant/elevator_b747.yaml "
-               "merged over the plant file), ideal (the plant file's own, the paper's unlimited "
-               "elevator) or a YAML path");
+               "the elevator's travel and rate: b747 (config/plant/elevator_b747.yaml merged "
+               "over the plant file), ideal (the plant file's own, the paper's unlimited "
+               "elevator) or a YAML path; default: an ordinary JSBSim aircraft's own (its "
+               "flight control system's travel and rate), else b747");
   cli::addText(app, "--trim-fraction", &t->trim,
                "with elevator limits, regimes whose trim deflection exceeds this fraction of "
                "the travel are drawn again (default 0.5; 1 = the whole travel; none = every "
@@ -242,7 +244,9 @@ bool parseOptions(int argc, char** argv, Options* opt) {
   cli::finishRunOptions(t.run, &opt->base);
   parseShape(t, opt);
   opt->elevator = t.elevator;
-  if (t.elevator != "ideal")
+  if (t.elevator.empty())
+    opt->elevator = cli::addAircraftElevator(&opt->base, "preadapt_family", true);
+  else if (t.elevator != "ideal")
     opt->base.plant_presets.push_back(cli::elevatorPresetPath("--elevator", t.elevator));
   opt->every_regime = t.trim == "none";
   if (!t.trim.empty() && !opt->every_regime) {

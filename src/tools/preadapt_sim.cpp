@@ -9,33 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "aircraft_elevator.hpp"
 #include "cli_common.hpp"
 #include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
-#include "preadaptive_mrac/jsbsim/jsbsim_overlay.hpp"
 
 using namespace preadaptive_mrac;
-
-namespace {
-
-/// The elevator of an ordinary JSBSim aircraft (one without the package's interface) as
-/// plant.actuator overrides: the travel and rate of its flight control system, when it gives
-/// both (else none: the plant file's own elevator).
-std::vector<std::string> aircraftElevatorSets(const JsbsimElevator& el, const std::string& name) {
-  if (!(el.travelKnown() && el.max_rate > 0.0)) {
-    std::cerr << "preadapt_sim: the aircraft '" << name
-              << "' gives no elevator travel and rate in its flight control system: its "
-                 "elevator is the plant file's own (give one with --elevator FILE)"
-              << std::endl;
-    return {};
-  }
-  char travel[64], rate[64];
-  std::snprintf(travel, sizeof travel, "plant.actuator.max_deflection=%.17g", el.symmetricTravel());
-  std::snprintf(rate, sizeof rate, "plant.actuator.max_rate=%.17g", el.max_rate);
-  return {"plant.actuator.enabled=true", travel, rate};
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   cli::RunRequest req;
@@ -87,19 +66,9 @@ int main(int argc, char** argv) {
     if (app.count("--mode")) req.mode = mode;
     if (app.count("--seed")) req.seed = cli::parseSeed("--seed", seed);
 
+    // The JSBSim aircraft is beyond the paper: it flies the aircraft's elevator unless told.
+    if (elevator.empty()) cli::addAircraftElevator(&req, "preadapt_sim", false);
     cli::PreparedRun run = cli::prepare(req);
-    // The JSBSim aircraft is beyond the paper: it flies the aircraft's elevator unless told
-    // (an ordinary JSBSim aircraft's own, from its flight control system).
-    if (elevator.empty() && run.cfg.plant.engine == PlantEngineKind::kJsbsim) {
-      const std::optional<JsbsimElevator> el = jsbsimOrdinaryElevator(run.cfg.plant.jsbsim);
-      if (!el) {
-        req.plant_presets.push_back(cli::elevatorPresetPath("--elevator", "b747"));
-      } else {
-        const auto own = aircraftElevatorSets(*el, run.cfg.plant.jsbsim.aircraft);
-        req.sets.insert(req.sets.begin(), own.begin(), own.end());
-      }
-      run = cli::prepare(req);
-    }
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Controller> ctl;
     SimResult res = cli::execute(run, !csv.empty(), &ctl);

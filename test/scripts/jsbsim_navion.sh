@@ -7,7 +7,9 @@
 #     gives a plant file: engine jsbsim, the aircraft's elevator travel and rate from its flight
 #     control system, and A, B within 5 % of Nelson's short period (docs/tutorials/own_aircraft.md);
 #  3. preadapt_sim flies scenario 1's first two regimes (theta 0.1 then 1, r 0.1 rad, 20 s) on it
-#     with the same keys, and knows the aircraft's elevator limits;
+#     with the same keys, and knows the aircraft's elevator limits; preadapt_family, given the
+#     same keys and no --elevator, flies the aircraft's elevator too (not the B-747's), and so
+#     do both nodes of scenario.launch given preadapt_trim's plant file and plant_engine:=jsbsim;
 #  4. an aircraft without an elevator the package can find is refused within 2 s naming the cause;
 #  5. the user's files are unchanged, and no JSBSim process and no overlay folder is left.
 set -uo pipefail
@@ -21,7 +23,7 @@ fail() {
 }
 # shellcheck source=test/scripts/lib/jsbsim_mark.sh
 source "$ROOT/test/scripts/lib/jsbsim_mark.sh"
-for tool in preadapt_trim preadapt_sim; do
+for tool in preadapt_trim preadapt_sim preadapt_family; do
   [ -x "$BUILD/devel/bin/$tool" ] || { echo "SKIPPED: $TEST_NAME: build $tool first"; exit 77; }
 done
 TMP=$(mktemp -d)
@@ -133,6 +135,40 @@ want = ["plant.actuator.enabled=true", "plant.actuator.max_deflection=0.43630000
 sys.exit(0 if d["steps"] == 20000 and d["overrides"][:3] == want else 1)
 PY
   fail "preadapt_sim's run on the navion (above)"
+fi
+
+# A family of one scenario on the same keys: the aircraft's elevator by default.
+if ! run "$BUILD/devel/bin/preadapt_family" --seed 7 --count 1 --regimes 1 --segments 2 \
+  --modes rac --set plant.engine=jsbsim "${KEYS[@]}" --set plant.jsbsim.mach=0.1576 \
+  --set plant.jsbsim.altitude_ft=0 --json >"$TMP/family.out" 2>"$TMP/family.err"; then
+  cat "$TMP/family.err"
+  fail "preadapt_family on the navion"
+elif ! /usr/bin/python3 - "$TMP/family.out" <<'PY'; then
+import json
+import sys
+
+e = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])["elevator"]
+print("preadapt_family: elevator", e)
+sys.exit(0 if e["preset"] == "aircraft" and e["enabled"] and e["max_deflection"] == 0.4363
+         and e["max_rate"] == 1.0472 else 1)
+PY
+  fail "preadapt_family did not fly the navion's own elevator (above)"
+fi
+
+# scenario.launch with the plant file and plant_engine:=jsbsim: both nodes get the aircraft's
+# elevator (roslaunch --dump-params: the parameters as the launch sets them, no master).
+if command -v roslaunch >/dev/null; then
+  roslaunch --dump-params preadaptive_mrac scenario.launch plant_engine:=jsbsim \
+    plant_config:="$TMP/navion_trimmed.yaml" >"$TMP/params.yaml" 2>"$TMP/params.err" ||
+    fail "roslaunch --dump-params: $(tail -3 "$TMP/params.err")"
+  for node in plant_sim mrac_controller; do
+    got=$(grep -E "^/$node/plant/actuator/(enabled|max_deflection|max_rate):" "$TMP/params.yaml" | tr '\n' ' ')
+    echo "scenario.launch, $node: $got"
+    [ "$got" = "/$node/plant/actuator/enabled: true /$node/plant/actuator/max_deflection: 0.4363 /$node/plant/actuator/max_rate: 1.0472 " ] ||
+      fail "scenario.launch gives $node another elevator than the navion's"
+  done
+else
+  fail "roslaunch not found: source the build's devel/setup.bash"
 fi
 
 # 4. No elevator the package can find: refused at once, naming it.
