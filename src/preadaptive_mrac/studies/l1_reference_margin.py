@@ -23,51 +23,36 @@ discrete ones from the spectral radius of the delayed closed loop, bisected on w
 """
 
 import argparse
+import json
 import math
+import os
+import subprocess
 
 import numpy as np
 import yaml
 
-from ..paths import package_root
+from ..paths import package_root, tool_dir
 
 DT = 0.001
 
 
 class Design:
-    """A, B of the plant, K of the LQR, P of A_r^T P + P A_r = -I, the sample time dt."""
+    """A, B of the plant, K of the LQR, A_r = A - B K, P of A_r^T P + P A_r = -I, the sample
+    time dt."""
 
-    def __init__(self, A, B, Q, R, dt=DT):
+    def __init__(self, A, B, K, P, dt=DT):
         self.A = np.asarray(A, float)
         self.B = np.asarray(B, float)
-        self.K = lqr_gain(self.A, self.B, np.asarray(Q, float), float(R))
+        self.K = np.asarray(K, float)
         self.Ar = self.A - np.outer(self.B, self.K)
-        self.P = lyapunov(self.Ar)
+        self.P = np.asarray(P, float)
         self.dt = dt
 
 
-def lqr_gain(A, B, Q, R):
-    """K = R^-1 B^T X, X the stabilising solution of the CARE (stable invariant subspace of the
-    Hamiltonian)."""
-    n = A.shape[0]
-    H = np.block([[A, -np.outer(B, B) / R], [-Q, -A.T]])
-    w, V = np.linalg.eig(H)
-    Vs = V[:, w.real < 0]
-    if Vs.shape[1] != n:
-        raise ValueError('the Hamiltonian has %d stable eigenvalues, not %d' % (Vs.shape[1], n))
-    X = np.real(Vs[n:] @ np.linalg.inv(Vs[:n]))
-    return B @ X / R
-
-
-def lyapunov(Ar):
-    """P with Ar^T P + P Ar = -I."""
-    n = Ar.shape[0]
-    eye = np.eye(n)
-    M = np.kron(eye, Ar.T) + np.kron(Ar.T, eye)
-    return np.linalg.solve(M, -eye.reshape(-1, order='F')).reshape(n, n, order='F')
-
-
 def load_design(plant=None, controller=None):
-    """The design of config/plant/b747.yaml and config/controller/default.yaml."""
+    """The design of config/plant/b747.yaml and config/controller/default.yaml: A and B from the
+    plant file, K (Riccati) and P (Lyapunov) as the package's own solvers give them
+    (`preadapt_sim --json` of the build, paths.tool_dir())."""
     root = package_root()
     plant = plant or f'{root}/config/plant/b747.yaml'
     controller = controller or f'{root}/config/controller/default.yaml'
@@ -77,7 +62,28 @@ def load_design(plant=None, controller=None):
         c = yaml.safe_load(f)['controller']
     if c['reference_model']['k0'] != 0.0:
         raise ValueError('controller.reference_model.k0 must be 0 for this study')
-    return Design(p['A'], p['B'], c['lqr']['Q'], c['lqr']['R'], c['sample_time'])
+    tool = os.path.join(tool_dir(), 'preadapt_sim')
+    if not os.access(tool, os.X_OK):
+        raise FileNotFoundError(f'{tool}: build the package first (K and P come from its solvers)')
+    run = subprocess.run(
+        [
+            tool,
+            '--scenario',
+            '1',
+            '--mode',
+            'rac',
+            '--plant',
+            plant,
+            '--controller',
+            controller,
+            '--json',
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    d = json.loads(run.stdout.strip().splitlines()[-1])
+    return Design(p['A'], p['B'], d['K'], d['P'], c['sample_time'])
 
 
 def scenario_regimes(path=None):
