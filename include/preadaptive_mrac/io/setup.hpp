@@ -43,6 +43,9 @@ struct RunConfig {
   /// "full name = value" of every optional key or section that was absent and defaulted
   /// (what a node logs at start-up, so no default is silent).
   std::vector<std::string> defaults_used;
+  /// "full name = value (what from)" of every value computed at start in place of the given
+  /// one (`controller.attention.thresholds: derived`); empty otherwise.
+  std::vector<std::string> derived;
   /// K (CARE) and P (Lyapunov) of the design model (controller.model, else plant.A, plant.B),
   /// controller.Q and controller.R as read:
   /// validation solves them anyway, and a Controller built from this configuration can take
