@@ -61,6 +61,19 @@ TEST(OwnAircraft, DerivedThresholdsScaleWithTheCommandAndStayAboveTheNoise) {
   EXPECT_NEAR(noisy.controller.c_ed, 0.04, 1e-12);
 }
 
+TEST(OwnAircraft, DerivedAgainAfterTheNoiseChanges) {
+  // what preadapt_family --noise does to each scenario's configuration
+  RunConfig rc = b747({"controller.attention.thresholds=derived"});
+  rc.plant.noise.std = Eigen::Vector3d(0.0, 0.002, 0.0);
+  EXPECT_EQ(deriveAttention(&rc), "");
+  EXPECT_NEAR(rc.controller.c_e, 0.01, 1e-12);
+  EXPECT_EQ(rc.derived.size(), 2u);
+  RunConfig fixed = b747({});
+  fixed.plant.noise.std = Eigen::Vector3d(0.0, 0.002, 0.0);
+  EXPECT_EQ(deriveAttention(&fixed), "");
+  EXPECT_EQ(fixed.controller.c_e, 0.005);
+}
+
 TEST(OwnAircraft, AHysteresisAtOrAboveTheDerivedThresholdIsRefused) {
   // valid against the given c_e (5 mrad), not against the Navion's derived 0.2 mrad
   EXPECT_THROW(navion("rac", {"controller.attention.hysteresis=0.001"}), ConfigError);

@@ -67,6 +67,14 @@ struct Sections {
 /// Throws ConfigError with every problem.
 RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style = {}, Sections sections = {});
 
+/// \brief `controller.attention.thresholds: derived`: c_e and c_ed of `rc->controller` from its
+/// design model (rc->design), `controller.attention.command` and the noise on the tracked output
+/// (`plant.noise.std`), in place of the given values, with a line each in `rc->derived`
+/// (deriveAttentionThresholds). Nothing when `fixed` or without a design. readRunConfig calls it;
+/// call it again after changing the plant's noise. Returns a problem with
+/// `controller.attention.hysteresis` (not below the derived c_e), else "".
+std::string deriveAttention(RunConfig* rc);
+
 /// \brief Identification of a run for its JSON summary.
 struct RunInfo {
   std::string scenario;  ///< as given (1|2|3|path)
