@@ -12,9 +12,9 @@ namespace preadaptive_mrac {
 struct DerivedAttention {
   double c_e = 0.0;          ///< |e| threshold [rad]
   double c_ed = 0.0;         ///< |e_dot| threshold [rad/s]
-  double disturbance = 0.0;  ///< d = |1^T x_ref|: the input-equivalent change of a unit regime [rad]
+  double disturbance = 0.0;  ///< d = |1^T x_ref|, the elevator a unit regime adds [rad]
   double error_peak = 0.0;   ///< peak |e| of the reference-model loop after a step d [rad]
-  double noise_floor = 0.0;  ///< kNoiseFactor x the output's noise std [rad]
+  double noise_floor = 0.0;  ///< kAttentionNoiseFactor x the output's noise std [rad]
 };
 
 /// c_e is this fraction of error_peak (one eighth: 4.9 mrad on the B-747, the paper's 5 mrad).
