@@ -38,6 +38,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/control/event.cpp
   src/core/control/velocity_estimator.cpp
   src/core/control/attention.cpp
+  src/core/control/attention_thresholds.cpp
   src/core/control/sensitivity_tracker.cpp
   src/core/control/mrac_law.cpp
   src/core/controller/mode_registry.cpp

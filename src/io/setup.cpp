@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "preadaptive_mrac/core/control/attention_thresholds.hpp"
 #include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
 #include "preadaptive_mrac/io/yaml_params.hpp"
@@ -130,9 +131,39 @@ RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style, Sections 
              std::string(e.what()) + " [" + e.cause() + "]");
     }
   }
+  if (sections.controller && r.ok()) {
+    const std::string why = deriveAttention(&rc);
+    if (!why.empty()) r.fail("controller.attention.hysteresis", why);
+  }
   r.throwIfProblems();
   rc.defaults_used = r.defaultsUsed();
   return rc;
+}
+
+std::string deriveAttention(RunConfig* rc) {
+  ControllerConfig& c = rc->controller;
+  rc->derived.clear();
+  if (c.thresholds != AttentionThresholds::kDerived || !rc->design) return "";
+  const PlantConfig model = c.designPlant(rc->plant);
+  const int out = model.output_index;
+  const double noise = rc->plant.noise.std.size() > out ? rc->plant.noise.std[out] : 0.0;
+  const DerivedAttention d =
+      deriveAttentionThresholds(rc->design->Ar, model.B, model.B1r + c.k0 * model.B, out, c.command,
+                                std::abs(noise), c.sample_time);
+  c.c_e = d.c_e;
+  c.c_ed = d.c_ed;
+  const auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return std::string(buf);
+  };
+  rc->derived.push_back("controller.attention.c_e = " + num(d.c_e) +
+                        " rad (unit regime d = " + num(d.disturbance) + " rad, loop error peak " +
+                        num(d.error_peak) + " rad, noise floor " + num(d.noise_floor) + " rad)");
+  rc->derived.push_back("controller.attention.c_ed = " + num(d.c_ed) + " rad/s");
+  if (!(c.hysteresis < c.c_e))
+    return "must be below the derived c_e = " + num(c.c_e) + ", got " + formatNumber(c.hysteresis);
+  return "";
 }
 
 namespace {

@@ -533,6 +533,7 @@ void MracControllerNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s
 std::unique_ptr<MracControllerNode> makeMracControllerNode(const NodeContext& ctx) {
   ControllerNodeParams params;
   if (!readNodeParams(ctx, readControllerNodeParams, &params)) return nullptr;
+  for (const std::string& d : params.run.derived) ROS_INFO("derived at start: %s", d.c_str());
   try {
     auto node = std::make_unique<MracControllerNode>(ctx, params);
     node->start();

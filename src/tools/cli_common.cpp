@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -193,6 +194,8 @@ PreparedRun prepare(const RunRequest& req) {
     for (const auto& p : e.problems()) line += (line.empty() ? "" : "; ") + p;
     throw UsageError("invalid configuration: " + line);
   }
+  // Values computed at start in place of the given ones: on stderr, so a --json line is the same.
+  for (const auto& d : run.cfg.derived) std::fprintf(stderr, "derived at start: %s\n", d.c_str());
   if (!req.weights_in.empty()) {
     try {
       run.weights = loadWeights(req.weights_in, run.cfg.controller.hidden, run.cfg.plant.n());

@@ -119,6 +119,7 @@ void addJobs(const Options& opt, const FamilySpec& spec, const RunConfig& base, 
       job.cfg.plant.noise.std = Eigen::VectorXd::Zero(spec.n);
       for (int i = 1; i < spec.n; ++i) job.cfg.plant.noise.std[i] = opt.noise;
       job.cfg.plant.noise.seed = noise_seed;
+      deriveAttention(&job.cfg);  // derived thresholds see this noise (more noise: a larger c_e)
     } else if (job.cfg.plant.noise.active()) {
       // Noise through --set plant.noise.std: a noise of its own per scenario as well, the
       // same for every mode (paired comparison).

@@ -43,6 +43,9 @@ struct RunConfig {
   /// "full name = value" of every optional key or section that was absent and defaulted
   /// (what a node logs at start-up, so no default is silent).
   std::vector<std::string> defaults_used;
+  /// "full name = value (what from)" of every value computed at start in place of the given
+  /// one (`controller.attention.thresholds: derived`); empty otherwise.
+  std::vector<std::string> derived;
   /// K (CARE) and P (Lyapunov) of the design model (controller.model, else plant.A, plant.B),
   /// controller.Q and controller.R as read:
   /// validation solves them anyway, and a Controller built from this configuration can take
@@ -63,6 +66,14 @@ struct Sections {
 /// equation) so that (A, B) not stabilisable etc. come back as problems naming the keys.
 /// Throws ConfigError with every problem.
 RunConfig readRunConfig(const ParamValue& tree, const KeyStyle& style = {}, Sections sections = {});
+
+/// \brief `controller.attention.thresholds: derived`: c_e and c_ed of `rc->controller` from its
+/// design model (rc->design), `controller.attention.command` and the noise on the tracked output
+/// (`plant.noise.std`), in place of the given values, with a line each in `rc->derived`
+/// (deriveAttentionThresholds). Nothing when `fixed` or without a design. readRunConfig calls it;
+/// call it again after changing the plant's noise. Returns a problem with
+/// `controller.attention.hysteresis` (not below the derived c_e), else "".
+std::string deriveAttention(RunConfig* rc);
 
 /// \brief Identification of a run for its JSON summary.
 struct RunInfo {
