@@ -144,7 +144,7 @@ std::string deriveAttention(RunConfig* rc) {
   ControllerConfig& c = rc->controller;
   rc->derived.clear();
   if (c.thresholds != AttentionThresholds::kDerived || !rc->design) return "";
-  const PlantConfig model = c.designPlant(rc->plant);
+  const DesignModel model = designModelOf(rc->plant, c);
   const int out = model.output_index;
   const double noise = rc->plant.noise.std.size() > out ? rc->plant.noise.std[out] : 0.0;
   const DerivedAttention d =
