@@ -25,10 +25,10 @@ command -v catkin_lint >/dev/null || {
 IGNORE=(literal_project_name unsorted_list global_var_collision)
 # Executables left out of the install space on purpose: development tools that expect a
 # source checkout (the benchmarks, the test and CI drivers, the studies, fuzzing, Slurm, the
-# JSBSim install into the build folder and the JSBSim protocol probe).
+# JSBSim install into the build folder, the JSBSim protocol probe and its scenario timing).
 DEV_SCRIPTS="bench/bag_vs_cli.py bench/perf_report.py bench/prototype_rac.py bench/ros_bench.sh
-bench/run_bench.sh scripts/check_format scripts/config_mutation_study scripts/fuzz
-scripts/install_deps scripts/junit_wrap scripts/noise_study scripts/python_files
+bench/run_bench.sh bench/jsbsim_scenario1.sh scripts/check_format scripts/config_mutation_study
+scripts/fuzz scripts/install_deps scripts/junit_wrap scripts/noise_study scripts/python_files
 scripts/reproduction_study scripts/robust_study scripts/regime_effectiveness_study
 scripts/switch_reaction_study scripts/l1_reference_margin_study scripts/core_includes
 scripts/check_baseline_identical scripts/run_demo scripts/slurm/submit_sweep
