@@ -25,7 +25,7 @@ struct Fixture {
     tree.merge(loadYamlFile(defaultControllerPath()));
     tree.merge(loadYamlFile(scenarioPath("1")));
     cfg = readRunConfig(tree);
-    ctl = std::make_unique<Controller>(cfg.plant, cfg.controller);
+    ctl = std::make_unique<Controller>(designModelOf(cfg.plant, cfg.controller), cfg.controller);
   }
 };
 }  // namespace

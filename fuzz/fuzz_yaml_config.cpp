@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
       const RunConfig cfg = readRunConfig(tree, KeyStyle{}, all);
       // A configuration that validates must also construct and run a few steps.
-      Controller ctl(cfg.plant, cfg.controller);
+      Controller ctl(designModelOf(cfg.plant, cfg.controller), cfg.controller);
       ScenarioPlant sim(cfg.plant, cfg.scenario, cfg.controller.sample_time);
       Vec x;
       for (int k = 0; k < 50 && !sim.done(); ++k) {
