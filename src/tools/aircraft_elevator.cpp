@@ -24,9 +24,8 @@ std::vector<std::string> aircraftElevatorSets(const JsbsimElevator& el) {
 
 }  // namespace
 
-std::string addAircraftElevator(RunRequest* req, const std::string& tool, bool b747_for_linear) {
-  const PreparedRun probe = prepare(*req);
-  const PlantConfig& plant = probe.cfg.plant;
+std::string addAircraftElevator(const PlantConfig& plant, RunRequest* req, const std::string& tool,
+                                bool b747_for_linear) {
   if (plant.engine == PlantEngineKind::kJsbsim) {
     if (const std::optional<JsbsimElevator> el = jsbsimOrdinaryElevator(plant.jsbsim)) {
       const std::vector<std::string> own = aircraftElevatorSets(*el);

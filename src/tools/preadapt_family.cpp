@@ -42,7 +42,8 @@ const char* kAbout =
     "seed like --effectiveness LO:HI, the first segment nominal (docs/jsbsim.md). Every run flies "
     "the aircraft's elevator (by default an ordinary JSBSim aircraft's own, else --elevator "
     "b747: config/plant/elevator_b747.yaml over the plant file, travel 0.35 rad, rate 0.65 "
-    "rad/s; --elevator ideal: the plant file alone, the paper's unlimited elevator), and with limits on the generator draws only regimes whose trim "
+    "rad/s; --elevator ideal: the plant file alone, the paper's unlimited elevator), and with "
+    "limits on the generator draws only regimes whose trim "
     "deflection is within --trim-fraction of the travel, saying how many it rejected. Beside the "
     "ratios each mode's elevator effort: peak |u| applied, time at the travel and rate limits, "
     "steady-flight total variation, fraction of each switch window at a limit. Exit code 2 on "
@@ -245,7 +246,8 @@ bool parseOptions(int argc, char** argv, Options* opt) {
   parseShape(t, opt);
   opt->elevator = t.elevator;
   if (t.elevator.empty())
-    opt->elevator = cli::addAircraftElevator(&opt->base, "preadapt_family", true);
+    opt->elevator = cli::addAircraftElevator(cli::prepare(opt->base).cfg.plant, &opt->base,
+                                             "preadapt_family", true);
   else if (t.elevator != "ideal")
     opt->base.plant_presets.push_back(cli::elevatorPresetPath("--elevator", t.elevator));
   opt->every_regime = t.trim == "none";

@@ -66,9 +66,12 @@ int main(int argc, char** argv) {
     if (app.count("--mode")) req.mode = mode;
     if (app.count("--seed")) req.seed = cli::parseSeed("--seed", seed);
 
-    // The JSBSim aircraft is beyond the paper: it flies the aircraft's elevator unless told.
-    if (elevator.empty()) cli::addAircraftElevator(&req, "preadapt_sim", false);
     cli::PreparedRun run = cli::prepare(req);
+    // The JSBSim aircraft is beyond the paper: it flies the aircraft's elevator unless told.
+    if (elevator.empty() && run.cfg.plant.engine == PlantEngineKind::kJsbsim) {
+      cli::addAircraftElevator(run.cfg.plant, &req, "preadapt_sim", false);
+      run = cli::prepare(req);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Controller> ctl;
     SimResult res = cli::execute(run, !csv.empty(), &ctl);
