@@ -92,7 +92,8 @@ struct Component {
   const XmlElement* e = nullptr;
   const XmlElement* section = nullptr;  ///< the <flight_control>, <system> or <autopilot>
   Doc* doc = nullptr;
-  std::vector<std::string> inputs;  ///< as written ('-' for a negated input)
+  std::vector<std::string> inputs;                ///< as written ('-' for a negated input)
+  std::vector<const XmlElement*> input_elements;  ///< the <input> elements, in the same order
 };
 
 std::string describe(const Component& c) {
@@ -112,6 +113,9 @@ class Fcs {
 
   Doc& aircraftDoc() { return *docs_[0]; }
   std::vector<std::unique_ptr<Doc>>& docs() { return docs_; }
+
+  /// Every component, in the order JSBSim's files list them.
+  const std::vector<Component>& components() const { return all_; }
 
   const Component* writer(const std::string& property) const {
     const auto it = writers_.find(property);
@@ -214,8 +218,12 @@ class Fcs {
         c.e = e.get();
         c.section = &s;
         c.doc = doc;
-        for (const XmlElement* in : e->childrenNamed("input")) c.inputs.push_back(in->text);
+        for (const XmlElement* in : e->childrenNamed("input")) {
+          c.inputs.push_back(in->text);
+          c.input_elements.push_back(in);
+        }
         writers_[componentProperty(e->attribute("name"))] = c;
+        all_.push_back(c);
         for (const XmlElement* out : e->childrenNamed("output")) writers_[trimmed(out->text)] = c;
       }
     }
@@ -225,6 +233,7 @@ class Fcs {
   std::string aircraft_;
   std::vector<std::unique_ptr<Doc>> docs_;
   std::map<std::string, Component> writers_;
+  std::vector<Component> all_;
 };
 
 /// The limits of the chain `path` (surface first): the travel of the component nearest the
@@ -425,6 +434,95 @@ JsbsimElevator planOverlay(Fcs* fcs, const std::string& aircraft, JsbsimElevator
   return el;
 }
 
+/// The speed hold's throttle correction: a thrust change of -2 W/V0 per ft/s of airspeed above
+/// the trim's (V0 = ic/vt-fps, the speed the trim holds), in throttle through the aircraft's
+/// thrust per unit throttle, taken as its propulsive force over its throttle command (exact for
+/// a thrust proportional to the throttle). Stateless: JSBSim runs its models twice a step in the
+/// lockstep, so an integrator there would not integrate over time.
+std::string speedHoldCorrection() {
+  return "      <fcs_function name=\"pmrac/speed-hold/throttle-correction\">\n"
+         "        <function> <product> <value>-2.0</value> "
+         "<property>inertia/weight-lbs</property>\n"
+         "          <difference> <property>velocities/vt-fps</property> "
+         "<property>ic/vt-fps</property> </difference>\n"
+         "          <quotient> <property>fcs/throttle-cmd-norm[0]</property>\n"
+         "            <product> <property>ic/vt-fps</property> <max> "
+         "<property>forces/fbx-prop-lbs</property> <value>1.0</value> </max> </product>\n"
+         "          </quotient> </product> </function>\n"
+         "      </fcs_function>\n";
+}
+
+/// Engine i's throttle: the trim's command plus the correction, within 0..1; written to
+/// fcs/throttle-pos-norm[i] when `to_position` (no component of the aircraft reads the command).
+std::string speedHoldThrottle(size_t i, bool to_position) {
+  const std::string n = std::to_string(i);
+  return "      <fcs_function name=\"pmrac/speed-hold/throttle-" + n +
+         "\">\n"
+         "        <function> <max> <value>0.0</value> <min> <value>1.0</value> <sum> "
+         "<property>fcs/throttle-cmd-norm[" +
+         n +
+         "]</property> <property>pmrac/speed-hold/throttle-correction</property> </sum> </min> "
+         "</max> </function>\n" +
+         (to_position ? "        <output>fcs/throttle-pos-norm[" + n + "]</output>\n" : "") +
+         "      </fcs_function>\n";
+}
+
+/// The speed hold added to the overlay: every component that reads an engine's
+/// fcs/throttle-cmd-norm reads the held throttle instead; an engine whose command no component
+/// reads (JSBSim then copies it to the position) gets the held throttle at its position.
+void planSpeedHold(Fcs* fcs, const std::string& aircraft) {
+  const XmlElement& top = *fcs->aircraftDoc().root;
+  const XmlElement* propulsion = top.child("propulsion");
+  const size_t engines = propulsion ? propulsion->childrenNamed("engine").size() : 0;
+  if (engines == 0)
+    throw JsbsimError(
+        "plant.jsbsim.speed_hold: the aircraft '" + aircraft +
+        "' has no <engine> in its <propulsion>: set plant.jsbsim.speed_hold to false");
+  std::string channel = speedHoldCorrection();
+  const fs::path folder = fcs->aircraftDoc().path.parent_path();
+  for (size_t i = 0; i < engines; ++i) {
+    const std::string cmd = "fcs/throttle-cmd-norm[" + std::to_string(i) + "]";
+    bool read = false;
+    for (const Component& c : fcs->components()) {
+      for (const XmlElement* in : c.input_elements) {
+        const std::string t = trimmed(in->text);
+        const bool negated = !t.empty() && t[0] == '-';
+        const std::string name = trimmed(negated ? t.substr(1) : t);
+        if (name != cmd && !(i == 0 && name == "fcs/throttle-cmd-norm")) continue;
+        const fs::path rel = fs::relative(c.doc->path, folder);
+        if (rel.empty() || rel.native().rfind("..", 0) == 0)
+          throw JsbsimError("plant.jsbsim.speed_hold: the aircraft '" + aircraft +
+                            "' reads its throttle command in " + c.doc->path.string() +
+                            ", outside its folder, which the overlay does not rewrite: set "
+                            "plant.jsbsim.speed_hold to false");
+        c.doc->edits.replace(
+            in->open_end, in->close_begin - in->open_end,
+            std::string(negated ? "-" : "") + "pmrac/speed-hold/throttle-" + std::to_string(i));
+        read = true;
+      }
+    }
+    const std::string pos = "fcs/throttle-pos-norm[" + std::to_string(i) + "]";
+    const Component* w = fcs->writer(pos);
+    if (w == nullptr && i == 0) w = fcs->writer("fcs/throttle-pos-norm");
+    if (!read && w != nullptr)
+      throw JsbsimError("plant.jsbsim.speed_hold: the aircraft '" + aircraft + "' writes " + pos +
+                        " in " + describe(*w) + ", which does not read " + cmd +
+                        " as an <input>: set plant.jsbsim.speed_hold to false");
+    channel += speedHoldThrottle(i, !read);
+  }
+  size_t at = top.close_begin;
+  for (const auto& c : top.children)
+    if (c->name == "system" || c->name == "autopilot" || c->name == "flight_control") {
+      at = c->open_begin;
+      break;
+    }
+  fcs->aircraftDoc().edits.insert(
+      at,
+      "<!-- Added by preadaptive_mrac: the speed hold (plant.jsbsim.speed_hold). -->\n"
+      "  <system name=\"pmrac-speed-hold\">\n    <channel name=\"pmrac-speed-hold\">\n" +
+          channel + "    </channel>\n  </system>\n\n  ");
+}
+
 }  // namespace
 
 double JsbsimElevator::symmetricTravel() const {
@@ -455,6 +553,7 @@ JsbsimOverlay::JsbsimOverlay(const std::string& root, const JsbsimParams& params
   if (jsbsimHasInterface(readText(src / (params.aircraft + ".xml")))) return;
   Fcs fcs(root, params.aircraft);
   elevator_ = planOverlay(&fcs, params.aircraft, params.elevator);
+  if (params.speed_hold) planSpeedHold(&fcs, params.aircraft);
   dir_ = makeJsbsimTempDir("pmrac_overlay_");
   try {
     // The root's other folders (engine/, systems/, ...) linked; the aircraft's folder mirrored

@@ -103,7 +103,7 @@ FaultRanges parseFaults(const std::string& text) {
 // The flags as text, checked by parseOptions().
 struct OptionText {
   cli::RunOptionText run;
-  std::string seed, count, modes, noise, regimes, segments, ref, jobs;
+  std::string seed, count, modes, noise, regimes, segments, ref, jobs, scales, reference;
   std::string delay, lag, lambda, gust, mismatch, faults;
   std::string elevator, trim;
 };
@@ -127,6 +127,12 @@ void addOptions(CLI::App& app, family::Options* opt, OptionText* t) {
   cli::addText(app, "--regimes", &t->regimes, "distinct regimes (default 3)");
   cli::addText(app, "--segments", &t->segments, "segments after the first (default 10)");
   cli::addText(app, "--ref-every", &t->ref, "reference steps about every S seconds (default off)");
+  cli::addText(app, "--scales", &t->scales,
+               "regime scales s, log-uniform in |s| over LO:HI, both ends of one sign (default "
+               "0.5:10; negative scales make an aircraft less stable in pitch)");
+  cli::addText(app, "--reference", &t->reference,
+               "with --ref-every: the alpha command [rad] at each step, uniform in LO:HI, the "
+               "first (LO + HI) / 2 (default 0.05:0.15, the first 0.1)");
   cli::addText(app, "--delay", &t->delay,
                "servo transport delay [s] (plant.actuator.delay): one value for every run, or "
                "LO:HI drawn per scenario");
@@ -179,6 +185,25 @@ void parseShape(const OptionText& t, family::Options* opt) {
   if (!t.ref.empty()) {
     opt->spec.ref_every = cli::parseDouble("--ref-every", t.ref);
     if (opt->spec.ref_every < 0.0) throw cli::UsageError("--ref-every: must be >= 0");
+  }
+  if (!t.scales.empty()) {
+    const ConditionRange r = parseRange("--scales", t.scales, -std::numeric_limits<double>::max(),
+                                        false, std::numeric_limits<double>::max());
+    if (!(r.lo > 0.0 || r.hi < 0.0))
+      throw cli::UsageError("--scales: both ends must be of one sign and not 0, got '" + t.scales +
+                            "'");
+    opt->spec.min_scale = r.lo;
+    opt->spec.max_scale = r.hi;
+  }
+  if (!t.reference.empty()) {
+    if (opt->spec.ref_every <= 0.0)
+      throw cli::UsageError("--reference: needs --ref-every (the command steps)");
+    const ConditionRange r =
+        parseRange("--reference", t.reference, -std::numeric_limits<double>::max(), false,
+                   std::numeric_limits<double>::max());
+    opt->spec.r_min = r.lo;
+    opt->spec.r_max = r.hi;
+    opt->spec.r = 0.5 * (r.lo + r.hi);
   }
   if (!t.jobs.empty()) opt->jobs = static_cast<unsigned>(cli::parseCount("--jobs", t.jobs, 1024));
   if (t.seed.empty()) throw cli::UsageError("--seed is required (the family's generator seed)");

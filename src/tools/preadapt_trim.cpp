@@ -36,6 +36,8 @@ std::string jsbsimKeys(const JsbsimParams& p) {
     out += ", root: \"" + std::filesystem::absolute(p.root).lexically_normal().string() + "\"";
   if (p.initialize != d.initialize) out += ", initialize: " + p.initialize;
   if (p.elevator != d.elevator) out += std::string(", elevator: ") + choiceName(p.elevator);
+  if (p.speed_hold != d.speed_hold)
+    out += p.speed_hold ? ", speed_hold: true" : ", speed_hold: false";
   return out;
 }
 

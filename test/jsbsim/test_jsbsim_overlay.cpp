@@ -215,6 +215,50 @@ TEST(JsbsimOverlay, TheUsersFolderIsLinkedNotWrittenAndTheOverlayGoes) {
   EXPECT_EQ(own.initialize(), "cruise_m080_h40k");
 }
 
+// The speed hold: the Navion's own Throttle channel reads the held throttle instead of the
+// trim's command; off, the aircraft's throttle chain is as written. An aircraft with a throttle
+// chain but no engine is refused naming the key.
+TEST(JsbsimOverlay, TheSpeedHoldGoesThroughTheAircraftsOwnThrottleChannel) {
+  const std::string root = findJsbsimRoot("", "navion");
+  JsbsimParams p = navion();
+  {
+    JsbsimOverlay on(root, p);
+    const std::string text = readText(fs::path(on.root()) / "aircraft/navion/navion.xml");
+    EXPECT_NE(text.find("<system name=\"pmrac-speed-hold\">"), std::string::npos);
+    EXPECT_NE(text.find("<input>pmrac/speed-hold/throttle-0</input>"), std::string::npos);
+    EXPECT_EQ(text.find("<input>fcs/throttle-cmd-norm[0]</input>"), std::string::npos);
+    // The aircraft's Throttle channel reads the command: the hold does not write the position.
+    EXPECT_EQ(text.find("<output>fcs/throttle-pos-norm[0]</output>\n      </fcs_function>"),
+              std::string::npos);
+  }
+  p.speed_hold = false;
+  {
+    JsbsimOverlay off(root, p);
+    const std::string text = readText(fs::path(off.root()) / "aircraft/navion/navion.xml");
+    EXPECT_EQ(text.find("pmrac-speed-hold"), std::string::npos);
+    EXPECT_NE(text.find("<input>fcs/throttle-cmd-norm[0]</input>"), std::string::npos);
+  }
+  const std::string glider = rootWith(
+      "glider",
+      "  <flight_control name=\"FCS\"> <channel name=\"Pitch\">\n"
+      "    <pure_gain name=\"Elevator\"> <input>fcs/elevator-cmd-norm</input> <gain>0.4</gain>\n"
+      "      <output>fcs/elevator-pos-rad</output> </pure_gain>\n"
+      "  </channel> </flight_control>");
+  JsbsimParams g;
+  g.aircraft = "glider";
+  try {
+    JsbsimOverlay o(glider, g);
+    ADD_FAILURE() << "an aircraft without an engine was given a speed hold";
+  } catch (const JsbsimError& e) {
+    EXPECT_NE(std::string(e.what()).find("plant.jsbsim.speed_hold: the aircraft 'glider' has no "
+                                         "<engine>"),
+              std::string::npos)
+        << e.what();
+  }
+  g.speed_hold = false;
+  EXPECT_NO_THROW(JsbsimOverlay o(glider, g));
+}
+
 /// The pitch rate 0.1 s after a 0.01 rad trailing-edge-down step, from the trim.
 double pitchAfterStep(JsbsimPlant* p) {
   const Vec theta = Vec::Zero(3);

@@ -44,7 +44,10 @@ Scenario recurringScenario(const FamilySpec& spec, std::uint64_t seed, int index
         throw std::runtime_error(
             "family: 1000 regimes in a row need more elevator to trim than the limit allows "
             "(lower the scales or raise plant.actuator.max_deflection)");
-      const double s = std::exp(u.in(std::log(spec.min_scale), std::log(spec.max_scale)));
+      // Negative scales: |s| log-uniform between |max_scale| and |min_scale|.
+      const double s = spec.min_scale > 0.0
+                           ? std::exp(u.in(std::log(spec.min_scale), std::log(spec.max_scale)))
+                           : -std::exp(u.in(std::log(-spec.max_scale), std::log(-spec.min_scale)));
       for (int i = 0; i < spec.n; ++i) th[i] = s * (1.0 + spec.spread * u.in(-1.0, 1.0));
       if (feasible == nullptr || feasible->holds(th)) break;
       if (rejected) ++*rejected;

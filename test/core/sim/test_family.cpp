@@ -42,6 +42,26 @@ TEST(Family, ShapeAndRecurrence) {
   }
 }
 
+TEST(Family, NegativeScalesStayInTheirRange) {
+  FamilySpec spec;
+  spec.min_scale = -0.6;
+  spec.max_scale = -0.15;
+  double lo = 0.0, hi = -1.0;
+  for (int k = 0; k < 50; ++k) {
+    const Scenario s = recurringScenario(spec, 11, k);
+    EXPECT_TRUE(s.theta[0].theta.isApprox(Eigen::VectorXd::Constant(3, 0.1)));
+    for (size_t i = 1; i < s.theta.size(); ++i) {
+      const auto& th = s.theta[i].theta;
+      EXPECT_LT(th.maxCoeff(), spec.max_scale * (1.0 - spec.spread) + 1e-12);
+      EXPECT_GT(th.minCoeff(), spec.min_scale * (1.0 + spec.spread) - 1e-12);
+      lo = std::min(lo, th.mean());
+      hi = std::max(hi, th.mean());
+    }
+  }
+  EXPECT_LT(lo, -0.45);  // the draws cover the range
+  EXPECT_GT(hi, -0.25);
+}
+
 TEST(Family, DeterministicAndSeedDependent) {
   FamilySpec spec;
   const Scenario a = recurringScenario(spec, 5, 3), b = recurringScenario(spec, 5, 3);
@@ -591,6 +611,35 @@ TEST(FamilyTool, ReportsEveryModeAndRefusesBadInput) {
   EXPECT_NE(out.find("unknown mode 'nope'"), std::string::npos) << out;
   EXPECT_EQ(runTool("--seed 1 --set controller.robust.margin=2", &out), 2);
   EXPECT_NE(out.find("controller.robust.margin"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --scales -1:2", &out), 2);
+  EXPECT_NE(out.find("--scales: both ends must be of one sign"), std::string::npos) << out;
+  EXPECT_EQ(runTool("--seed 1 --reference -0.01:0.01", &out), 2);
+  EXPECT_NE(out.find("--reference: needs --ref-every"), std::string::npos) << out;
+}
+
+// Negative scales and a command about zero: the scenarios written carry them.
+TEST(FamilyTool, ScalesAndReferenceShapeTheScenarios) {
+  const std::string dir = ::testing::TempDir() + "family_scales";
+  std::filesystem::remove_all(dir);
+  std::string out;
+  ASSERT_EQ(runTool("--seed 5 --count 1 --regimes 2 --segments 4 --modes rac --jobs 1 --scales "
+                    "-0.6:-0.15 --ref-every 2 --reference -0.01:0.01 --out-dir " +
+                        dir,
+                    &out),
+            0)
+      << out;
+  const ParamValue tree = loadYamlFile(dir + "/scenario_0.yaml");
+  ParamReader reader(tree);
+  const Scenario s = Scenario::read(reader, 3, "scenario");
+  ASSERT_TRUE(reader.ok()) << ConfigError(reader.problems()).what();
+  for (size_t i = 1; i < s.theta.size(); ++i) EXPECT_LT(s.theta[i].theta.maxCoeff(), 0.0);
+  EXPECT_EQ(s.reference.front().r, 0.0);  // (LO + HI) / 2 first
+  for (const auto& seg : s.reference) {
+    EXPECT_GE(seg.r, -0.01);
+    EXPECT_LE(seg.r, 0.01);
+  }
+  EXPECT_GT(s.reference.size(), 20u);
+  std::filesystem::remove_all(dir);
 }
 
 // --count, --regimes, --segments and --jobs are counts: a whole number from 1 to the flag's

@@ -21,7 +21,8 @@ struct FamilySpec {
   double first_duration = 5.0;  ///< the first segment at theta = first_scale ones [s]
   double first_scale = 0.1;
   double min_duration = 10.0, max_duration = 20.0;  ///< segment lengths [s], uniform
-  double min_scale = 0.5, max_scale = 10.0;         ///< regime scale s, log-uniform in [min, max]
+  /// Regime scale s, log-uniform in [min, max]; both negative: |s| log-uniform in [-max, -min].
+  double min_scale = 0.5, max_scale = 10.0;
   double spread = 0.5;  ///< components s * (1 + spread * U[-1, 1]), so they differ
   double r = 0.1;       ///< reference [rad]
   /// Reference steps: when > 0, r takes a new value in [r_min, r_max] every so many seconds
