@@ -417,6 +417,26 @@ TEST(JsbsimFailure, ARefusedPropertyEndsItsPacketOnly) {
   EXPECT_LT(proc.pid(), 0);
 }
 
+TEST(JsbsimFailure, ARefusedStepInputEndsTheWaitForItsFrame) {
+  // A refused `set` drops the `iterate` behind it, so the output line waited for never comes:
+  // the refusal is seen while waiting, long before the timeout.
+  JsbsimLaunch l;
+  l.outputs = {"simulation/frame"};
+  JsbsimProcess proc(l);
+  const auto t0 = std::chrono::steady_clock::now();
+  proc.send("set pmrac/no-such-property 1\niterate 1\n");
+  try {
+    for (double frame = 0.0; frame < 2.0;) frame = proc.readOutput()[0];  // JSBSim's start: 0, 1
+    FAIL() << "a frame came after a refused step input";
+  } catch (const JsbsimError& e) {
+    EXPECT_NE(std::string(e.what()).find("no property pmrac/no-such-property"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3.0);
+  EXPECT_LT(proc.pid(), 0);
+  EXPECT_TRUE(noChildLeft());
+}
+
 TEST(JsbsimFailure, ASilentJsbsimStillEndsAtTheTimeout) {
   // Alive, nothing fatal in its output, no reply coming: plant.jsbsim.timeout is the last resort.
   JsbsimLaunch l;
