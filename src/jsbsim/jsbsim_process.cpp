@@ -15,16 +15,16 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <mutex>
 #include <sstream>
 #include <thread>
+
+#include "preadaptive_mrac/jsbsim/jsbsim_fork.hpp"
 
 namespace preadaptive_mrac {
 
@@ -34,76 +34,6 @@ constexpr char kPrompt[] = "JSBSim> ";
 // How often a wait for JSBSim looks at its process and output [ms].
 constexpr int kWatchMs = 200;
 constexpr size_t kPromptLen = sizeof(kPrompt) - 1;
-
-/// \brief The thread every JSBSim is forked from. PR_SET_PDEATHSIG fires when the *thread*
-/// that forked the child ends, not its process: a JSBSim forked by a thread that ends before
-/// the run (a nodelet's onInit served by a thread that goes, a pool's worker) would be killed
-/// mid-run. This thread lives until the process ends (detached, never joined; the object is
-/// never destroyed), so the child dies exactly with the process, whatever ends it.
-class ForkThread {
- public:
-  static ForkThread& instance() {
-    static ForkThread* const t = new ForkThread();  // never destroyed: the thread outlives main
-    return *t;
-  }
-  /// \brief fork() on this thread; the child runs `child` (async-signal-safe calls only, then
-  /// exec or _exit). The child's pid, or -1 with errno set.
-  pid_t fork(const std::function<void()>& child) {
-    std::lock_guard<std::mutex> one(call_);  // one fork at a time
-    std::unique_lock<std::mutex> l(m_);
-    job_ = &child;
-    done_ = false;
-    cv_.notify_all();
-    cv_.wait(l, [this] { return done_; });
-    errno = err_;
-    return pid_;
-  }
-
- private:
-  ForkThread() {
-    std::thread([this] { loop(); }).detach();
-  }
-  void loop() {
-    std::unique_lock<std::mutex> l(m_);
-    for (;;) {
-      cv_.wait(l, [this] { return job_ != nullptr; });
-      const pid_t p = ::fork();
-      if (p == 0) {
-        (*job_)();
-        ::_exit(127);
-      }
-      err_ = errno;
-      pid_ = p;
-      job_ = nullptr;
-      done_ = true;
-      cv_.notify_all();
-    }
-  }
-  std::mutex call_, m_;
-  std::condition_variable cv_;
-  const std::function<void()>* job_ = nullptr;
-  bool done_ = false;
-  pid_t pid_ = -1;
-  int err_ = 0;
-};
-
-int freePort() {
-  const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (s < 0) throw JsbsimError(std::string("JSBSim: socket(): ") + std::strerror(errno));
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  a.sin_port = 0;
-  socklen_t len = sizeof a;
-  if (::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-      ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
-    const int e = errno;
-    ::close(s);
-    throw JsbsimError(std::string("JSBSim: no free local port: ") + std::strerror(e));
-  }
-  ::close(s);
-  return ntohs(a.sin_port);
-}
 
 /// A socket listening on a free loopback port (returned in `port`), for JSBSim's output socket.
 int listenLoopback(int* port) {
@@ -121,6 +51,13 @@ int listenLoopback(int* port) {
   }
   *port = ntohs(a.sin_port);
   return s;
+}
+
+/// A free local port (for JSBSim's input socket: JSBSim binds it).
+int freePort() {
+  int port = 0;
+  ::close(listenLoopback(&port));
+  return port;
 }
 
 /// Closes a descriptor when the scope ends.
@@ -269,7 +206,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
     (void)w;
     ::_exit(127);
   };
-  const pid_t pid = ForkThread::instance().fork(child);
+  const pid_t pid = forkFromLastingThread(child);
   if (pid < 0) {
     const int e = errno;
     ::close(errpipe[0]);
