@@ -5,6 +5,8 @@
 ///   flock /work/bench.lock build/devel/lib/preadaptive_mrac/bench_jsbsim [steps] [repeats]
 /// Needs JSBSim (scripts/install_jsbsim); run from the source checkout (config/ and jsbsim/).
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -27,6 +29,28 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+/// Times this thread has slept (voluntary context switches): each wait for JSBSim's answer
+/// that found nothing there yet is one.
+long sleeps() {
+  rusage u{};
+  ::getrusage(RUSAGE_THREAD, &u);
+  return u.ru_nvcsw;
+}
+
+/// A block's cost: microseconds and sleeps of the stepping thread, per step.
+struct Cost {
+  double us, sleeps;
+};
+
+Cost medianCost(const std::vector<Cost>& c) {
+  std::vector<double> us, sl;
+  for (const Cost& x : c) {
+    us.push_back(x.us);
+    sl.push_back(x.sleeps);
+  }
+  return {median(us), median(sl)};
+}
+
 RunConfig loadScenario1() {
   ParamValue tree = ParamValue::makeMap();
   tree.merge(loadYamlFile(defaultPlantPath()));
@@ -38,31 +62,36 @@ RunConfig loadScenario1() {
 
 /// Microseconds per ScenarioPlant::advance over `steps` steps (a 0.01 rad elevator square
 /// wave of 1 Hz), median of `repeats` blocks.
-double plantStepUs(const PlantConfig& plant, const Scenario& sc, int steps, int repeats) {
+Cost plantStepUs(const PlantConfig& plant, const Scenario& sc, int steps, int repeats) {
   ScenarioPlant sim(plant, sc, 0.001);
-  std::vector<double> us;
+  std::vector<Cost> c;
   for (int r = 0; r < repeats; ++r) {
+    const long s0 = sleeps();
     const auto t0 = Clock::now();
     for (int k = 0; k < steps; ++k) sim.advance(((k / 500) % 2 ? 0.01 : -0.01));
-    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps);
+    c.push_back({std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps,
+                 static_cast<double>(sleeps() - s0) / steps});
   }
-  if (const auto* j = dynamic_cast<const JsbsimPlant*>(sim.engine()))
-    std::printf("  (jsbsim: %lld of %d steps read with the step itself, %lld reads repeated)\n",
-                static_cast<long long>(j->earlyReads()), steps * repeats,
-                static_cast<long long>(j->rereads()));
-  return median(us);
+  return medianCost(c);
 }
 
-/// Microseconds per bare protocol exchange on a trimmed JSBSim: `packet` of `lines` commands.
-double exchangeUs(JsbsimProcess& p, const std::string& packet, size_t lines, int steps,
-                  int repeats) {
-  std::vector<double> us;
+/// Microseconds per bare protocol exchange on a trimmed JSBSim: `packet` of `lines` commands,
+/// then `output_lines` lines of the output socket.
+Cost exchangeUs(JsbsimProcess& p, const std::string& packet, size_t lines, int output_lines,
+                int steps, int repeats) {
+  std::vector<Cost> c;
   for (int r = 0; r < repeats; ++r) {
+    const long s0 = sleeps();
     const auto t0 = Clock::now();
-    for (int k = 0; k < steps; ++k) p.transact(packet, lines);
-    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps);
+    for (int k = 0; k < steps; ++k) {
+      p.send(packet);
+      for (int i = 0; i < output_lines; ++i) p.readOutput();
+      p.replies(lines);
+    }
+    c.push_back({std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / steps,
+                 static_cast<double>(sleeps() - s0) / steps});
   }
-  return median(us);
+  return medianCost(c);
 }
 
 }  // namespace
@@ -72,30 +101,25 @@ int main(int argc, char** argv) {
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 5;
   try {
     RunConfig rc = loadScenario1();
-    const double lin = plantStepUs(rc.plant, rc.scenario, steps * 50, repeats);
+    const Cost lin = plantStepUs(rc.plant, rc.scenario, steps * 50, repeats);
     PlantConfig js = rc.plant;
     js.engine = PlantEngineKind::kJsbsim;
-    const double jsb = plantStepUs(js, rc.scenario, steps, repeats);
+    const Cost jsb = plantStepUs(js, rc.scenario, steps, repeats);
     JsbsimPlant raw(js.jsbsim, 0.001, 0.0);
     raw.reset();
     auto& p = raw.process();
-    const double iter = exchangeUs(p, "iterate 1\nget simulation/frame\n", 2, steps, repeats);
-    const double get1 = exchangeUs(p, "get simulation/frame\n", 1, steps, repeats);
-    const double get7 =
-        exchangeUs(p,
-                   "get pmrac/sync/frame\nget pmrac/dev/theta-rad\n"
-                   "get pmrac/dev/gamma-rad\nget pmrac/dev/q-rad_sec\nget pmrac/dev/vt-fps\n"
-                   "get pmrac/dev/h-sl-ft\n",
-                   6, steps, repeats);
-    std::printf("per-step cost, median of %d blocks (us):\n", repeats);
-    std::printf("  ScenarioPlant::advance, linear (RK4)          %10.3f\n", lin);
-    std::printf("  ScenarioPlant::advance, jsbsim (coupling)     %10.3f  (%.0fx linear)\n", jsb,
-                jsb / lin);
-    std::printf("  socket: 'iterate 1' + 1 get in one packet     %10.3f\n", iter);
-    std::printf("  socket: 1 get                                 %10.3f\n", get1);
-    std::printf("  socket: 6 gets in one packet (the step read)  %10.3f\n", get7);
-    std::printf("  jsbsim reads repeated (mid-step)               %lld\n",
-                static_cast<long long>(raw.rereads()));
+    // (`iterate 1`: the output lines of the pass that takes it in and of the step)
+    const Cost iter = exchangeUs(p, "iterate 1\n", 1, 2, steps, repeats);
+    const Cost get1 = exchangeUs(p, "get simulation/frame\n", 1, 0, steps, repeats);
+    std::printf("per-step cost, median of %d blocks:                us   sleeps\n", repeats);
+    std::printf("  ScenarioPlant::advance, linear (RK4)          %10.3f %8.2f\n", lin.us,
+                lin.sleeps);
+    std::printf("  ScenarioPlant::advance, jsbsim (coupling)     %10.3f %8.2f  (%.0fx linear)\n",
+                jsb.us, jsb.sleeps, jsb.us / lin.us);
+    std::printf("  socket: 'iterate 1' and its 2 output lines    %10.3f %8.2f\n", iter.us,
+                iter.sleeps);
+    std::printf("  socket: 1 get                                 %10.3f %8.2f\n", get1.us,
+                get1.sleeps);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_jsbsim: %s\n", e.what());
     return 1;

@@ -65,6 +65,7 @@ pmrac_library(preadaptive_mrac_core
 # so what links it must keep it although no symbol of it is referenced: a program takes its
 # objects (pmrac_link_engines), a shared library needs it loaded (--no-as-needed).
 pmrac_library(preadaptive_mrac_jsbsim
+  src/jsbsim/jsbsim_fork.cpp
   src/jsbsim/jsbsim_log.cpp
   src/jsbsim/jsbsim_paths.cpp
   src/jsbsim/jsbsim_process.cpp

@@ -94,7 +94,6 @@ ClosedLoop::ClosedLoop(const PlantConfig& plant, const Scenario& scenario, Contr
 SimResult ClosedLoop::run(const SimOptions& opt) {
   SimResult res;
   ScenarioPlant sim(plant_cfg_, scenario_, opt.dt);
-  if (sim.engine()) sim.engine()->readFlight(opt.record_series);
   const double dt = opt.dt;
   std::vector<Eigen::VectorXd> wtheta;
   for (const auto& s : scenario_.theta) wtheta.push_back(s.theta);

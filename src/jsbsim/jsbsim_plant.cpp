@@ -12,26 +12,20 @@ namespace preadaptive_mrac {
 namespace {
 
 constexpr double kFt = 0.3048;  // [m/ft]
-// The reads of a completed step: the aerodynamics' copy of the frame (the step's completion
-// marker), then the deviations from the references (jsbsim/README.md "precision" and
-// "lockstep"). A read served in the middle of the step (after the integrator, before the
-// second model pass) finds the marker still at the previous frame, one served before the step
-// too: only marker == the frame before + 1 is a completed step. (simulation/frame itself adds
-// nothing: it is ahead of the marker exactly in the middle of a step.)
-const char kReadPacket[] =
-    "get pmrac/sync/frame\nget pmrac/dev/theta-rad\nget pmrac/dev/gamma-rad\n"
-    "get pmrac/dev/q-rad_sec\nget pmrac/dev/vt-fps\nget pmrac/dev/h-sl-ft\n";
-const char* const kReadNames[] = {"pmrac/sync/frame",    "pmrac/dev/theta-rad",
-                                  "pmrac/dev/gamma-rad", "pmrac/dev/q-rad_sec",
-                                  "pmrac/dev/vt-fps",    "pmrac/dev/h-sl-ft"};
-constexpr size_t kReadLines = 6;
-// The same without airspeed and altitude (JsbsimPlant::readFlight(false)): each line costs
-// about 5 % of a step.
-const char kReadPacketShort[] =
-    "get pmrac/sync/frame\nget pmrac/dev/theta-rad\nget pmrac/dev/gamma-rad\n"
-    "get pmrac/dev/q-rad_sec\n";
-// A read that keeps coming mid-step this often is no longer a race but a broken lockstep.
-constexpr int kMaxRereads = 100000;
+// What JSBSim's output socket sends after every model pass: the aerodynamics' copy of the
+// frame (the step's completion marker), the elevator command, then the deviations from the
+// references (jsbsim/README.md "precision" and "lockstep"). `iterate 1` gives two lines: one
+// from the pass that takes the command in (the models but the integrator, on the state before
+// the step: the marker still at the frame before) and one from the step itself (marker + 1).
+const char* const kOutputs[] = {"pmrac/sync/frame",    "fcs/pmrac-elevator-cmd-rad",
+                                "pmrac/dev/theta-rad", "pmrac/dev/gamma-rad",
+                                "pmrac/dev/q-rad_sec", "pmrac/dev/vt-fps",
+                                "pmrac/dev/h-sl-ft"};
+// The output prints 7 significant digits: the marker is exact below this frame.
+constexpr std::int64_t kMaxFrame = 9999999;
+// An elevator command no step sends (7 digits, exact), held while reset() has the trimmed state
+// printed: it tells that line from any left over from JSBSim's start.
+constexpr double kMarkCommand = 1234567.0;
 
 /// The root the aircraft is under (JSBSim's binary looked for first, so a missing binary is
 /// the first thing said).
@@ -48,6 +42,7 @@ JsbsimLaunch launchOf(const JsbsimParams& p, double dt, const JsbsimOverlay& ove
   l.initialize = overlay.initialize();
   l.dt = dt;
   l.timeout = p.timeout;
+  l.outputs.assign(std::begin(kOutputs), std::end(kOutputs));
   return l;
 }
 
@@ -96,8 +91,7 @@ void JsbsimPlant::reset() {
   appendSet(&p, "ic/h-sl-ft", params_.altitude_ft);
   appendSet(&p, "ic/mach", params_.mach);
   appendSet(&p, "ic/gamma-rad", 0.0);
-  const auto& rep = proc_.transact(p, 8 + ic_lines_);
-  for (const auto& line : rep)
+  for (const auto& line : proc_.transact(p, 8 + ic_lines_))
     if (line.find("set successful") == std::string::npos)
       throw JsbsimError(
           "JSBSim refused an input of the aircraft '" + params_.aircraft +
@@ -137,8 +131,22 @@ void JsbsimPlant::reset() {
   refs_[3].at = vt_;
   refs_[4].at = h_;
   proc_.trim(where);
-  frame_ = static_cast<std::int64_t>(proc_.get({"pmrac/sync/frame"})[0]);
-  readStep(frame_);
+  // JSBSim prints the trimmed state on demand (the elevator command marking the line), and
+  // its frame is the one the steps count from (the trim does not advance it).
+  p.clear();
+  appendSet(&p, "fcs/pmrac-elevator-cmd-rad", kMarkCommand);
+  p += "set simulation/force-output 0\n";
+  appendSet(&p, "fcs/pmrac-elevator-cmd-rad", 0.0);
+  for (const auto& line : proc_.transact(p, 3))
+    if (line.compare(0, 14, "set successful") != 0)
+      throw JsbsimError("JSBSim refused printing the trimmed state: '" + line + "'");
+  for (;;) {
+    const std::vector<double>& out = proc_.readOutput();
+    if (out[1] != kMarkCommand) continue;  // a line of JSBSim's start
+    frame_ = static_cast<std::int64_t>(out[0]);
+    takeOutput(out);
+    break;
+  }
   trim_.pitch = theta_;
   trim_.flight_path = gamma_;
   trim_.alpha = theta_ - gamma_;
@@ -161,40 +169,29 @@ void JsbsimPlant::setFaults(const PhysicalFaults& faults) {
   faults_ = faults;
 }
 
-bool JsbsimPlant::takeRead(const std::vector<std::string>& r, size_t at,
-                           std::int64_t expected_frame) {
-  const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
-  double v[kReadLines];
-  for (size_t i = 0; i < lines; ++i) v[i] = JsbsimProcess::parseGet(r[at + i], kReadNames[i]);
-  const auto frame = static_cast<std::int64_t>(v[0]);
-  if (frame == expected_frame) {
-    theta_ = refs_[0].at + v[1];
-    gamma_ = refs_[1].at + v[2];
-    q_ = refs_[2].at + v[3];
-    if (read_flight_) {
-      vt_ = refs_[3].at + v[4];
-      h_ = refs_[4].at + v[5];
-    }
-    return true;
+void JsbsimPlant::readFrame(std::int64_t frame) {
+  if (frame > kMaxFrame)
+    throw JsbsimError("JSBSim's output socket prints 7 significant digits: a run is limited to " +
+                      std::to_string(kMaxFrame) + " frames of one JSBSim process");
+  for (;;) {
+    const std::vector<double>& v = proc_.readOutput();
+    const auto marker = static_cast<std::int64_t>(v[0]);
+    if (marker > frame)
+      throw JsbsimError("JSBSim lost the lockstep: its aerodynamics ran frame " +
+                        std::to_string(marker) + " where frame " + std::to_string(frame) +
+                        " was expected");
+    if (marker < frame) continue;  // the pass before the step
+    takeOutput(v);
+    return;
   }
-  if (frame > expected_frame)
-    throw JsbsimError("JSBSim lost the lockstep: its aerodynamics ran frame " +
-                      std::to_string(frame) + " where frame " + std::to_string(expected_frame) +
-                      " was expected");
-  return false;
 }
 
-void JsbsimPlant::readStep(std::int64_t expected_frame) {
-  // (airspeed and altitude, the packet's last two lines, only when asked for)
-  const size_t lines = read_flight_ ? kReadLines : kReadLines - 2;
-  for (int tries = 0;; ++tries) {
-    const auto& r = proc_.transact(read_flight_ ? kReadPacket : kReadPacketShort, lines);
-    if (takeRead(r, 0, expected_frame)) return;
-    if (tries >= kMaxRereads)
-      throw JsbsimError("JSBSim lost the lockstep: frame " + std::to_string(expected_frame) +
-                        " did not complete after " + std::to_string(kMaxRereads) + " reads");
-    ++rereads_;
-  }
+void JsbsimPlant::takeOutput(const std::vector<double>& v) {
+  theta_ = refs_[0].at + v[2];
+  gamma_ = refs_[1].at + v[3];
+  q_ = refs_[2].at + v[4];
+  vt_ = refs_[3].at + v[5];
+  h_ = refs_[4].at + v[6];
 }
 
 void JsbsimPlant::step(double dt, const Vec& theta, double effect, double r, double gust) {
@@ -217,9 +214,9 @@ void JsbsimPlant::step(double dt, const Vec& theta, double effect, double r, dou
     lines += 3;
   }
   // A reference moves to its variable's value once the deviation has grown past its bound:
-  // `get` then resolves the variable to 6 significant digits of at most the bound (theta,
-  // gamma: 5e-11 rad; q: 5e-11 rad/s; airspeed 5e-8 ft/s; altitude 5e-7 ft) at the cost of
-  // a `set` only every so many steps.
+  // the output's 7 significant digits of a deviation of at most about the bound then resolve
+  // the variable to 5e-11 rad (theta, gamma), 5e-11 rad/s (q), 5e-8 ft/s (airspeed), 5e-7 ft
+  // (altitude), at the cost of a `set` only every so many steps.
   for (Ref& ref : refs_) {
     if (std::abs(*ref.value - ref.at) > ref.bound) {
       appendSet(&packet_, ref.property, *ref.value);
@@ -229,22 +226,16 @@ void JsbsimPlant::step(double dt, const Vec& theta, double effect, double r, dou
   }
   packet_ += "iterate 1\n";
   ++lines;
-  // The read goes out right behind the step, without waiting for the step's replies: when
-  // JSBSim takes it in after the step (its next input pass) one round trip is saved; when in
-  // the same pass as `iterate` (before the step) or in the middle of the step, the marker
-  // says so and the read is repeated.
-  const size_t read_lines = read_flight_ ? kReadLines : kReadLines - 2;
-  const auto& rep =
-      proc_.transact2(packet_, lines, read_flight_ ? kReadPacket : kReadPacketShort, read_lines);
+  // The step's line comes on the output socket; the replies, sent before it, are read after
+  // it (a refused command, which would keep the step from coming, is seen while waiting).
+  proc_.send(packet_);
+  const double alpha_before = x_[1];
+  ++frame_;
+  readFrame(frame_);
+  const auto& rep = proc_.replies(lines);
   for (size_t i = 0; i + 1 < lines; ++i)
     if (rep[i].compare(0, 14, "set successful") != 0)
       throw JsbsimError("JSBSim refused a step input: '" + rep[i] + "'");
-  const double alpha_before = x_[1];
-  ++frame_;
-  if (takeRead(rep, lines, frame_))
-    ++early_reads_;
-  else
-    readStep(frame_);
   x_[1] = (theta_ - gamma_) - trim_.alpha;
   x_[2] = q_ - trim_.q;
   x_[0] += dt * (0.5 * (alpha_before + x_[1]) - r);

@@ -15,16 +15,16 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <mutex>
 #include <sstream>
 #include <thread>
+
+#include "preadaptive_mrac/jsbsim/jsbsim_fork.hpp"
 
 namespace preadaptive_mrac {
 
@@ -35,75 +35,38 @@ constexpr char kPrompt[] = "JSBSim> ";
 constexpr int kWatchMs = 200;
 constexpr size_t kPromptLen = sizeof(kPrompt) - 1;
 
-/// \brief The thread every JSBSim is forked from. PR_SET_PDEATHSIG fires when the *thread*
-/// that forked the child ends, not its process: a JSBSim forked by a thread that ends before
-/// the run (a nodelet's onInit served by a thread that goes, a pool's worker) would be killed
-/// mid-run. This thread lives until the process ends (detached, never joined; the object is
-/// never destroyed), so the child dies exactly with the process, whatever ends it.
-class ForkThread {
- public:
-  static ForkThread& instance() {
-    static ForkThread* const t = new ForkThread();  // never destroyed: the thread outlives main
-    return *t;
-  }
-  /// \brief fork() on this thread; the child runs `child` (async-signal-safe calls only, then
-  /// exec or _exit). The child's pid, or -1 with errno set.
-  pid_t fork(const std::function<void()>& child) {
-    std::lock_guard<std::mutex> one(call_);  // one fork at a time
-    std::unique_lock<std::mutex> l(m_);
-    job_ = &child;
-    done_ = false;
-    cv_.notify_all();
-    cv_.wait(l, [this] { return done_; });
-    errno = err_;
-    return pid_;
-  }
-
- private:
-  ForkThread() {
-    std::thread([this] { loop(); }).detach();
-  }
-  void loop() {
-    std::unique_lock<std::mutex> l(m_);
-    for (;;) {
-      cv_.wait(l, [this] { return job_ != nullptr; });
-      const pid_t p = ::fork();
-      if (p == 0) {
-        (*job_)();
-        ::_exit(127);
-      }
-      err_ = errno;
-      pid_ = p;
-      job_ = nullptr;
-      done_ = true;
-      cv_.notify_all();
-    }
-  }
-  std::mutex call_, m_;
-  std::condition_variable cv_;
-  const std::function<void()>* job_ = nullptr;
-  bool done_ = false;
-  pid_t pid_ = -1;
-  int err_ = 0;
-};
-
-int freePort() {
+/// A socket listening on a free loopback port (returned in `port`), for JSBSim's output socket.
+int listenLoopback(int* port) {
   const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   if (s < 0) throw JsbsimError(std::string("JSBSim: socket(): ") + std::strerror(errno));
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  a.sin_port = 0;
   socklen_t len = sizeof a;
-  if (::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+  if (::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || ::listen(s, 1) != 0 ||
       ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
     const int e = errno;
     ::close(s);
-    throw JsbsimError(std::string("JSBSim: no free local port: ") + std::strerror(e));
+    throw JsbsimError(std::string("JSBSim: cannot listen on a local port: ") + std::strerror(e));
   }
-  ::close(s);
-  return ntohs(a.sin_port);
+  *port = ntohs(a.sin_port);
+  return s;
 }
+
+/// A free local port (for JSBSim's input socket: JSBSim binds it).
+int freePort() {
+  int port = 0;
+  ::close(listenLoopback(&port));
+  return port;
+}
+
+/// Closes a descriptor when the scope ends.
+struct FdCloser {
+  int fd;
+  ~FdCloser() {
+    if (fd >= 0) ::close(fd);
+  }
+};
 
 void quickAck(int fd) {
   // Linux clears TCP_QUICKACK again after a while: set it around every read, or the delayed
@@ -175,7 +138,24 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   greeted_ = false;
   if (dir_.empty()) dir_ = makeJsbsimTempDir("pmrac_jsbsim_");
   const std::string script = dir_ + "/lockstep.xml";
+  const std::string directives = dir_ + "/outputs.xml";
   log_path_ = dir_ + "/jsbsim.log";
+  FdCloser listener{-1};
+  outputs_ = launch.outputs.size();
+  if (outputs_ > 0) {
+    // JSBSim connects to this port when it reads the directive (as a client: the socket is
+    // ours, so no other process can hold the port). rate 1000 Hz (JSBSim's largest) is every
+    // model pass at dt >= 1 ms.
+    int out_port = 0;
+    listener.fd = listenLoopback(&out_port);
+    std::ofstream f(directives);
+    f << "<?xml version=\"1.0\"?>\n<output name=\"localhost\" type=\"SOCKET\" protocol=\"TCP\" "
+         "port=\""
+      << out_port << "\" rate=\"1000\">\n";
+    for (const auto& p : launch.outputs) f << "  <property> " << p << " </property>\n";
+    f << "</output>\n";
+    if (!f) throw JsbsimError("JSBSim: cannot write " + directives);
+  }
   {
     std::ofstream f(script);
     char dt[64];
@@ -189,6 +169,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   // Everything the child needs, prepared before fork (only async-signal-safe calls after it).
   std::vector<std::string> args = {
       exe, "--root=" + root, "--script=" + script, "--nohighlight", "--suspend", "--nice=0"};
+  if (outputs_ > 0) args.push_back("--logdirectivefile=" + directives);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -225,7 +206,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
     (void)w;
     ::_exit(127);
   };
-  const pid_t pid = ForkThread::instance().fork(child);
+  const pid_t pid = forkFromLastingThread(child);
   if (pid < 0) {
     const int e = errno;
     ::close(errpipe[0]);
@@ -282,9 +263,48 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   if (replies_[0].find("Connected to JSBSim server") == std::string::npos)
     throw JsbsimError("JSBSim on port " + std::to_string(port_) +
                       " greeted with an unexpected text: '" + replies_[0] + "'");
+  if (outputs_ > 0) acceptOutput(listener.fd);
   // What it printed while loading has been read: from here on only the newer lines matter.
   log_mark_ = readFile(log_path_).size();
   greeted_ = true;
+}
+
+void JsbsimProcess::acceptOutput(int listener) {
+  // JSBSim connected while loading (before it answered on its input socket) or never: it
+  // says which in its output.
+  int waited_ms = 0;
+  for (;;) {
+    pollfd p{listener, POLLIN, 0};
+    const int slice = std::max(1, std::min(kWatchMs, timeout_ms_ - waited_ms));
+    const int pr = ::poll(&p, 1, slice);
+    if (pr > 0) {
+      out_fd_ = ::accept4(listener, nullptr, nullptr, SOCK_CLOEXEC);
+      if (out_fd_ >= 0) break;
+    } else if (pr == 0) {
+      waited_ms += slice;
+      const std::string log = logSince(0);
+      if (log.find("Could not connect to socket for output") != std::string::npos ||
+          log.find("Could not get host net address") != std::string::npos)
+        failFor("could not connect its output socket to this process (loopback, 'localhost')",
+                "it was still running, killed now");
+      watchSilence(waited_ms, "connect its output socket");
+    } else if (errno != EINTR) {
+      throw JsbsimError(std::string("JSBSim: poll(): ") + std::strerror(errno));
+    }
+  }
+  out_buf_.clear();
+  // The first line names the columns: "<LABELS> ,Time," then one per property. JSBSim leaves
+  // out a property it does not have (saying so in its log) and sends the others.
+  while (out_buf_.find('\n') == std::string::npos) receive(out_fd_, &out_buf_);
+  const std::string labels = out_buf_.substr(0, out_buf_.find('\n'));
+  if (labels.compare(0, 8, "<LABELS>") != 0)
+    failFor("sent an unexpected first line on its output socket: '" + labels + "'",
+            "it was still running, killed now");
+  if (static_cast<size_t>(std::count(labels.begin(), labels.end(), ',')) != outputs_ + 1)
+    failFor("does not have every property the package reads from its output socket (" +
+                std::to_string(outputs_) + " asked for, its columns: '" + labels + "')",
+            "it was still running, killed now");
+  out_buf_.erase(0, labels.size() + 1);
 }
 
 void JsbsimProcess::watchStart(std::chrono::steady_clock::time_point* next_watch) {
@@ -298,7 +318,7 @@ void JsbsimProcess::watchStart(std::chrono::steady_clock::time_point* next_watch
     failFor("did not load", "it was still running, killed now");
 }
 
-void JsbsimProcess::watchSilence(int waited_ms) {
+void JsbsimProcess::watchSilence(int waited_ms, const std::string& waiting_for) {
   int status = 0;
   if (exited(&status, 0.0)) {
     pid_ = -1;
@@ -310,7 +330,8 @@ void JsbsimProcess::watchSilence(int waited_ms) {
   if (fault.certain || (fault.found() && greeted_))
     failFor("cannot go on", "it was still running, killed now");
   if (waited_ms >= timeout_ms_)
-    failDead("did not answer within " + std::to_string(timeout_ms_) + " ms (plant.jsbsim.timeout)");
+    failDead("did not " + waiting_for + " within " + std::to_string(timeout_ms_) +
+             " ms (plant.jsbsim.timeout)");
 }
 
 void JsbsimProcess::takeRefusal(bool rest_dropped) {
@@ -360,48 +381,91 @@ void JsbsimProcess::failFor(const std::string& what, const std::string& how) {
   throw JsbsimError("JSBSim " + what + " (" + how + "); JSBSim said: " + tail);
 }
 
-void JsbsimProcess::readPrompts(size_t n, size_t packet_end) {
-  if (packet_end == 0) packet_end = n;
+void JsbsimProcess::readPrompts(size_t n) {
   replies_.clear();
-  char chunk[65536];
   size_t pos = 0;
   while (replies_.size() < n) {
     const size_t i = buf_.find(kPrompt, pos);
     if (i != std::string::npos) {
       replies_.emplace_back(buf_, pos, i - pos);
       pos = i + kPromptLen;
-      if (jsbsimRefusedProperty(replies_.back())) {
-        const size_t r = replies_.size();
-        takeRefusal(r < packet_end || (r > packet_end && r < n));
-      }
+      if (jsbsimRefusedProperty(replies_.back())) takeRefusal(replies_.size() < n);
       continue;
     }
     buf_.erase(0, pos);
     pos = 0;
-    // (A read that spun on a non-blocking socket for the next chunk was slower on this
-    // loaded 2-core machine: the spinning client takes the CPU from JSBSim.)
-    ssize_t got = -1;
-    int waited_ms = 0;
-    for (;;) {
-      quickAck(fd_);
-      got = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
-      if (got >= 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) break;
-      pollfd p{fd_, POLLIN, 0};
-      const int slice = std::max(1, std::min(kWatchMs, timeout_ms_ - waited_ms));
-      int pr;
-      do {
-        pr = ::poll(&p, 1, slice);
-      } while (pr < 0 && errno == EINTR);
-      if (pr == 0) {
-        waited_ms += slice;
-        watchSilence(waited_ms);
-      }
-    }
-    quickAck(fd_);
-    if (got <= 0) failDead("closed the connection mid-run (the process ended or was killed)");
-    buf_.append(chunk, static_cast<size_t>(got));
+    receive(fd_, &buf_);
   }
   buf_.erase(0, pos);
+}
+
+void JsbsimProcess::receive(int fd, std::string* into) {
+  // (A read that spun on a non-blocking socket for the next chunk was slower on this loaded
+  // 2-core machine: the spinning client takes the CPU from JSBSim.)
+  char chunk[65536];
+  ssize_t got = -1;
+  int waited_ms = 0;
+  for (;;) {
+    quickAck(fd);
+    got = ::recv(fd, chunk, sizeof chunk, MSG_DONTWAIT);
+    if (got >= 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) break;
+    pollfd p{fd, POLLIN, 0};
+    const int slice = std::max(1, std::min(kWatchMs, timeout_ms_ - waited_ms));
+    int pr;
+    do {
+      pr = ::poll(&p, 1, slice);
+    } while (pr < 0 && errno == EINTR);
+    if (pr == 0) {
+      waited_ms += slice;
+      if (fd == out_fd_) checkRefusals();
+      watchSilence(waited_ms);
+    }
+  }
+  quickAck(fd);
+  if (got <= 0) failDead("closed the connection mid-run (the process ended or was killed)");
+  into->append(chunk, static_cast<size_t>(got));
+}
+
+void JsbsimProcess::checkRefusals() {
+  // The replies that have come so far (without waiting): a refused command drops the rest of
+  // its packet, `iterate` with it, so the frame waited for would never come.
+  char chunk[65536];
+  ssize_t got;
+  while ((got = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT)) > 0)
+    buf_.append(chunk, static_cast<size_t>(got));
+  for (size_t pos = 0, i; (i = buf_.find(kPrompt, pos)) != std::string::npos;
+       pos = i + kPromptLen) {
+    replies_.assign(1, buf_.substr(pos, i - pos));
+    if (jsbsimRefusedProperty(replies_[0])) takeRefusal(true);
+  }
+}
+
+bool JsbsimProcess::takeOutputLine() {
+  const size_t nl = out_buf_.find('\n');
+  if (nl == std::string::npos) return false;
+  // "time,v1,...,vn": numbers of at least 12 characters (setw(12), setprecision(7)).
+  out_values_.clear();
+  const char* p = out_buf_.c_str();
+  const char* const end = p + nl;
+  for (size_t k = 0; k <= outputs_; ++k) {
+    char* after = nullptr;
+    const double v = std::strtod(p, &after);
+    if (after == p || after > end || (k < outputs_ ? *after != ',' : after != end))
+      failFor("sent an unreadable line on its output socket (" + std::to_string(outputs_ + 1) +
+                  " numbers expected): '" + out_buf_.substr(0, nl) + "'",
+              "it was still running, killed now");
+    if (k > 0) out_values_.push_back(v);
+    p = after + 1;
+  }
+  out_buf_.erase(0, nl + 1);
+  return true;
+}
+
+const std::vector<double>& JsbsimProcess::readOutput() {
+  if (out_fd_ < 0)
+    throw JsbsimError("JSBSim: no output socket (not started with outputs, or stopped)");
+  while (!takeOutputLine()) receive(out_fd_, &out_buf_);
+  return out_values_;
 }
 
 void JsbsimProcess::sendAll(const char* data, size_t size) {
@@ -416,21 +480,14 @@ void JsbsimProcess::sendAll(const char* data, size_t size) {
 }
 
 const std::vector<std::string>& JsbsimProcess::transact(const std::string& packet, size_t lines) {
-  sendAll(packet.data(), packet.size());
-  readPrompts(lines);
-  return replies_;
+  send(packet);
+  return replies(lines);
 }
 
-const std::vector<std::string>& JsbsimProcess::transact2(const std::string& first, size_t lines1,
-                                                         const char* second, size_t lines2) {
-  sendAll(first.data(), first.size());
-  // The first reply's arrival says JSBSim's input pass has taken `first` (the step runs next):
-  // `second` then reaches the pass after it, or the one in its middle.
-  readPrompts(1, lines1);
-  std::string head = replies_[0];
-  sendAll(second, std::strlen(second));
-  readPrompts(lines1 + lines2 - 1, lines1 - 1);
-  replies_.insert(replies_.begin(), std::move(head));
+void JsbsimProcess::send(const std::string& packet) { sendAll(packet.data(), packet.size()); }
+
+const std::vector<std::string>& JsbsimProcess::replies(size_t lines) {
+  readPrompts(lines);
   return replies_;
 }
 
@@ -500,6 +557,10 @@ void JsbsimProcess::stop() {
   if (fd_ >= 0) {
     ::close(fd_);
     fd_ = -1;
+  }
+  if (out_fd_ >= 0) {
+    ::close(out_fd_);
+    out_fd_ = -1;
   }
   if (pid_ > 0) {
     ::kill(-pid_, SIGKILL);

@@ -349,12 +349,11 @@ TEST(JsbsimFailure, AnAircraftThatDoesNotLoadFailsFastNamingTheCause) {
   expectNamedFast(failToLoad(p), "plant.jsbsim.elevator",
                   "cannot follow it back to fcs/elevator-cmd-norm");
   // An aircraft that names the package's command (so is taken as written for the package) but
-  // lacks the rest of the interface: JSBSim refuses the first missing property (and would
-  // leave the rest of that packet unanswered).
+  // lacks the rest of the interface: JSBSim, loading the output socket's properties, says
+  // which it does not have (and leaves them out of the lines).
   p.aircraft = "767";
   addAircraftWithoutInterface(root, "767", true);
-  expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft",
-                  "has no property pmrac/fault/elevator-effectiveness");
+  expectNamedFast(failToLoad(p), "plant.jsbsim.aircraft", "has no property pmrac/dev/");
 
   // No such initial condition.
   p.aircraft = "b747_pmrac";
@@ -416,6 +415,26 @@ TEST(JsbsimFailure, ARefusedPropertyEndsItsPacketOnly) {
   }
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3.0);
   EXPECT_LT(proc.pid(), 0);
+}
+
+TEST(JsbsimFailure, ARefusedStepInputEndsTheWaitForItsFrame) {
+  // A refused `set` drops the `iterate` behind it, so the output line waited for never comes:
+  // the refusal is seen while waiting, long before the timeout.
+  JsbsimLaunch l;
+  l.outputs = {"simulation/frame"};
+  JsbsimProcess proc(l);
+  const auto t0 = std::chrono::steady_clock::now();
+  proc.send("set pmrac/no-such-property 1\niterate 1\n");
+  try {
+    for (double frame = 0.0; frame < 2.0;) frame = proc.readOutput()[0];  // JSBSim's start: 0, 1
+    FAIL() << "a frame came after a refused step input";
+  } catch (const JsbsimError& e) {
+    EXPECT_NE(std::string(e.what()).find("no property pmrac/no-such-property"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3.0);
+  EXPECT_LT(proc.pid(), 0);
+  EXPECT_TRUE(noChildLeft());
 }
 
 TEST(JsbsimFailure, ASilentJsbsimStillEndsAtTheTimeout) {

@@ -33,13 +33,13 @@ struct JsbsimTrim {
 /// \brief JSBSim in lockstep: one process per object, trimmed by reset().
 ///
 /// Each step sends one packet `set` elevator (+ vertical wind, faults, a read reference that
-/// has fallen behind) and `iterate 1`, then reads simulation/frame, pmrac/sync/frame and the
-/// deviations pmrac/dev/X = X - pmrac/ref/X (the reference kept within a small bound of X, so
-/// `get`'s 6 significant digits resolve X to ~1e-10 of its unit), repeating the read until
-/// the step has completed (frame == sync frame == the frame before + 1). The state's alpha is the
-/// flight-path angle of attack theta - gamma (what the aircraft's attitude makes with its
-/// velocity over the ground), so a vertical wind (the gust, atmosphere/wind-down-fps = -w_g)
-/// acts on the aerodynamics without entering x, as on the linear plant. e_I is integrated
+/// has fallen behind) and `iterate 1`, then takes from JSBSim's output socket the line of the
+/// completed step (pmrac/sync/frame == the frame before + 1) with the deviations
+/// pmrac/dev/X = X - pmrac/ref/X (the reference kept within a small bound of X, so the line's
+/// 7 significant digits resolve X to ~1e-11 of its unit), and then the packet's replies. The
+/// state's alpha is the flight-path angle of attack theta - gamma (what the aircraft's attitude
+/// makes with its velocity over the ground), so a vertical wind (the gust, atmosphere/wind-down-fps
+/// = -w_g) acts on the aerodynamics without entering x, as on the linear plant. e_I is integrated
 /// with the trapezoid rule over the step: e_I += dt ((alpha_k + alpha_k+1) / 2 - r).
 class JsbsimPlant : public PlantEngine {
  public:
@@ -52,14 +52,9 @@ class JsbsimPlant : public PlantEngine {
   /// through a generated overlay has none that act, and any fault but the nominal is refused.
   void setFaults(const PhysicalFaults& faults) override;
   const FlightOutputs& flight() const override { return flight_; }
-  void readFlight(bool on) override { read_flight_ = on; }
   double trimAirspeed() const override { return trim_.airspeed; }
   void close() override { proc_.stop(); }
   const JsbsimTrim& trim() const { return trim_; }
-  /// \brief Reads repeated because they came in the middle of a step (since start).
-  std::int64_t rereads() const { return rereads_; }
-  /// \brief Steps whose read, sent right behind the step, already saw it completed.
-  std::int64_t earlyReads() const { return early_reads_; }
   JsbsimProcess& process() { return proc_; }
   /// \brief The root JSBSim runs on: the aircraft's own, or an overlay adding the interface.
   const JsbsimOverlay& overlay() const { return overlay_; }
@@ -67,10 +62,11 @@ class JsbsimPlant : public PlantEngine {
   double lastDeflection() const { return de_; }
 
  private:
-  void readStep(std::int64_t expected_frame);
-  /// The read's replies from `at` on: true (and the values taken) when they are of the
-  /// completed step `expected_frame`.
-  bool takeRead(const std::vector<std::string>& r, size_t at, std::int64_t expected_frame);
+  /// Read the output socket's lines up to the one of `frame` (marker == frame) and take its
+  /// values.
+  void readFrame(std::int64_t frame);
+  /// The state from an output line's deviations and the references.
+  void takeOutput(const std::vector<double>& v);
   JsbsimParams params_;
   double dt_;
   double e_i0_;
@@ -81,8 +77,7 @@ class JsbsimPlant : public PlantEngine {
   FlightOutputs flight_;
   PhysicalFaults faults_, sent_faults_;
   bool wind_sent_ = false;
-  bool read_flight_ = true;
-  std::int64_t frame_ = 0, rereads_ = 0, early_reads_ = 0;
+  std::int64_t frame_ = 0;
   double de_ = 0.0;
   // Full values of the read variables at the current sample (the references of the next read).
   double theta_ = 0.0, gamma_ = 0.0, q_ = 0.0, vt_ = 0.0, h_ = 0.0;

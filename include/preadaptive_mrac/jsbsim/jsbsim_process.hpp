@@ -31,6 +31,9 @@ struct JsbsimLaunch {
   std::string initialize = "cruise_m080_h40k";  ///< the aircraft folder's initial-condition file
   double dt = 0.001;                            ///< JSBSim's frame [s]
   double timeout = 10.0;                        ///< start-up and reply timeout [s]
+  /// Properties JSBSim sends through its output socket, one line after every model pass that
+  /// is not held (empty: no output socket). Read with JsbsimProcess::readOutput().
+  std::vector<std::string> outputs;
 };
 
 /// \brief One JSBSim process in socket lockstep, held between steps.
@@ -41,6 +44,9 @@ struct JsbsimLaunch {
 /// started it whatever ends that (an exception, Ctrl-C, SIGKILL); the destructor kills the
 /// group and reaps it. One connection per process (the server
 /// serves one client, once); a fresh free port per process (a port is not reusable at once).
+/// With JsbsimLaunch::outputs, JSBSim also connects back to a loopback port this object listens
+/// on (a `<output type="SOCKET">` directive given by `--logdirectivefile`) and sends those
+/// properties as one line of 7 significant digits per model pass, in one send() each.
 ///
 /// A JSBSim that cannot go on fails fast with the cause its output names (jsbsim_log.hpp): a
 /// process that ends is seen at once, a refused property (after which JSBSim ignores the rest
@@ -56,10 +62,14 @@ class JsbsimProcess {
   /// \brief Send `packet` (lines ending in '\n') in one write and return the reply text of
   /// each of its `lines` commands (the text before each prompt).
   const std::vector<std::string>& transact(const std::string& packet, size_t lines);
-  /// \brief Send `first` and then `second` in two writes without waiting in between, and
-  /// return the replies of both (first's `lines1`, then second's `lines2`).
-  const std::vector<std::string>& transact2(const std::string& first, size_t lines1,
-                                            const char* second, size_t lines2);
+  /// \brief Send `packet` in one write; its replies are read later with replies().
+  void send(const std::string& packet);
+  /// \brief The reply text of each of the next `lines` commands sent with send().
+  const std::vector<std::string>& replies(size_t lines);
+  /// \brief The next line of the output socket: JsbsimLaunch::outputs' values in their order
+  /// (7 significant digits), without JSBSim's time column. While it waits, a command JSBSim
+  /// refused (which drops the rest of its packet, so no frame may come) is an error.
+  const std::vector<double>& readOutput();
   /// \brief Set a property (the value written with 17 significant digits).
   void set(const std::string& property, double value);
   /// \brief Read properties in one packet (6 significant digits: JSBSim's `get`).
@@ -81,13 +91,17 @@ class JsbsimProcess {
   [[noreturn]] void failDead(const std::string& what);
   [[noreturn]] void failFor(const std::string& what, const std::string& how);
   void watchStart(std::chrono::steady_clock::time_point* next_watch);
-  void watchSilence(int waited_ms);
+  void watchSilence(int waited_ms, const std::string& waiting_for = "answer");
+  void acceptOutput(int listener);
+  void checkRefusals();
+  /// Receive what `fd` has into `into`, waiting (poll, with the watch every 200 ms) if nothing.
+  void receive(int fd, std::string* into);
   void takeRefusal(bool rest_dropped);
   std::string logSince(size_t from) const;
   void startOnce(const JsbsimLaunch& launch, const std::string& exe, const std::string& root);
-  /// Read `n` replies; the first packet they answer ends at reply `packet_end` (0: at n), a
-  /// second one at n.
-  void readPrompts(size_t n, size_t packet_end = 0);
+  /// Read the replies of the `n` commands of one packet.
+  void readPrompts(size_t n);
+  bool takeOutputLine();
   void sendAll(const char* data, size_t size);
   bool exited(int* status, double wait_s);
   void removeDir();
@@ -101,6 +115,10 @@ class JsbsimProcess {
   bool greeted_ = false;  ///< JSBSim has loaded and answered the connection
   std::string buf_;
   std::vector<std::string> replies_;
+  int out_fd_ = -1;     ///< JSBSim's output socket (accepted), or -1
+  size_t outputs_ = 0;  ///< values per output line (JsbsimLaunch::outputs)
+  std::string out_buf_;
+  std::vector<double> out_values_;
 };
 
 }  // namespace preadaptive_mrac

@@ -28,7 +28,6 @@ class EulerEngine : public PlantEngine {
   }
   void setFaults(const PhysicalFaults&) override {}
   const FlightOutputs& flight() const override { return flight_; }
-  void readFlight(bool) override {}
   double trimAirspeed() const override { return cfg_.airspeed; }
   void close() override {}
   static int steps;

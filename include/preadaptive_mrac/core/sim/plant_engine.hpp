@@ -50,10 +50,6 @@ class PlantEngine {
   /// \brief Faults from the next step on.
   virtual void setFaults(const PhysicalFaults& faults) = 0;
   virtual const FlightOutputs& flight() const = 0;
-  /// \brief Whether flight() must carry the airspeed and altitude of every step (on by
-  /// default; off, they keep the trim's: a batch run without a time series saves the reads).
-  /// Pitch attitude and flight path angle are always current (alpha is made of them).
-  virtual void readFlight(bool on) = 0;
   /// \brief The trimmed true airspeed [m/s] (the V of the gust filter).
   virtual double trimAirspeed() const = 0;
   /// \brief Free what the engine holds (JSBSim: end its process) once nothing steps it any
