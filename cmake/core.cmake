@@ -53,6 +53,7 @@ pmrac_library(preadaptive_mrac_core
   src/core/robust/chunk_sums.cpp
   src/core/robust/loss_estimate.cpp
   src/core/robust/regime_decision.cpp
+  src/core/robust/switch_detection.cpp
   src/core/closed_loop.cpp
   src/core/step_sequencer.cpp
   src/core/margins.cpp
