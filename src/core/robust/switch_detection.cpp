@@ -25,14 +25,13 @@ double shortThreshold(const DetectionSettings& s, double noise_level) {
 }
 
 double longThreshold(const DetectionSettings& s, double noise_level) {
-  return std::max(s.threshold, s.noise_factor * noise_level *
-                                   static_cast<double>(s.detect_window) / s.long_window);
+  return std::max(s.threshold, s.noise_factor * noise_level * static_cast<double>(s.detect_window) /
+                                   s.long_window);
 }
 
 bool longWindowDue(const DetectionSettings& s, const DetectionClock& c) {
   return !c.verifying && s.long_window > s.detect_window && c.stored >= s.long_window &&
-         c.since_onset >= std::max(s.long_window, s.min_dwell) &&
-         c.since_verified >= s.long_window;
+         c.since_onset >= std::max(s.long_window, s.min_dwell) && c.since_verified >= s.long_window;
 }
 
 DetectionResult detectSwitch(const Residuals& rho, const NoiseEstimate& noise,
