@@ -37,9 +37,7 @@ double l1NormOfG(const Eigen::MatrixXd& Ar, const Eigen::VectorXd& B, double ome
   F.topLeftCorner(n, n) = Ar;
   F.topRightCorner(n, 1) = -omega * B;
   F(n, n) = -omega;
-  const Eigen::MatrixXd M = F * h, M2 = M * M, M3 = M2 * M, M4 = M3 * M;
-  const Eigen::MatrixXd Phi =
-      Eigen::MatrixXd::Identity(n + 1, n + 1) + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
+  const Eigen::MatrixXd Phi = rk4Hold(F, h).Phi;  // free: no input
   Eigen::VectorXd s(n + 1), next(n + 1);
   s << B, 1.0;
   Eigen::VectorXd integral = Eigen::VectorXd::Zero(n);
