@@ -378,8 +378,8 @@ void JsbsimProcess::readPrompts(size_t n, size_t packet_end) {
     }
     buf_.erase(0, pos);
     pos = 0;
-    // (A read that spun on a non-blocking socket for the next chunk was slower on this
-    // loaded 2-core machine: the spinning client takes the CPU from JSBSim.)
+    // (A read that spins on a non-blocking socket for the next chunk is slower on a loaded
+    // 2-core machine: the spinning client takes the CPU from JSBSim.)
     ssize_t got = -1;
     int waited_ms = 0;
     for (;;) {

@@ -332,8 +332,8 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
     Vec phi;
     double y = 0.0;
     if (len == long_samples_ && window_.count() >= long_samples_) {
-      // The whole long window: its running sums (push()), not a fresh sum of long_samples_ samples
-      // every chunk (that sum was a sixth of pa_robust's instructions).
+      // The whole long window: its running sums (push()), not a fresh sum of long_samples_
+      // samples every chunk (that sum would be a sixth of pa_robust's instructions).
       phi = window_.phiLong();
       y = window_.yLong();
     } else {
