@@ -17,9 +17,10 @@
 /// fit and concurrent learning, which then aim at the loop's fixed point (docs/research/robust.md).
 ///
 /// The parts: the data (identification_window.hpp, chunk_sums.hpp), the loss estimate
-/// (loss_estimate.hpp), the remembered regimes (regime_memory.hpp) and the decision
-/// (regime_decision.hpp, a pure function); this class schedules them: detection, the onset,
-/// the decisions while verifying, and the regime's concurrent learning.
+/// (loss_estimate.hpp), the remembered regimes (regime_memory.hpp), the detection
+/// (switch_detection.hpp) and the decision (regime_decision.hpp), both pure functions; this class
+/// keeps their state and schedules them: detection, the onset, the decisions while verifying,
+/// and the regime's concurrent learning.
 
 #include <cstdint>
 #include <utility>
