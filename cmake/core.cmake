@@ -39,20 +39,21 @@ pmrac_library(preadaptive_mrac_core
   src/core/control/velocity_estimator.cpp
   src/core/control/attention.cpp
   src/core/control/attention_thresholds.cpp
-  src/core/control/sensitivity_tracker.cpp
-  src/core/control/mrac_law.cpp
+  src/core/control/paper/sensitivity_tracker.cpp
+  src/core/control/mrac/mrac_law.cpp
   src/core/controller/mode_registry.cpp
   src/core/controller/controller.cpp
-  src/core/control/l1_config.cpp
-  src/core/control/l1_law.cpp
-  src/core/control/paper_preadaptation.cpp
-  src/core/control/oracle_preadaptation.cpp
+  src/core/control/l1/l1_config.cpp
+  src/core/control/l1/l1_law.cpp
+  src/core/control/paper/paper_preadaptation.cpp
+  src/core/control/oracle/oracle_preadaptation.cpp
   src/core/robust/identification_window.cpp
   src/core/robust/robust_preadaptation.cpp
   src/core/robust/regime_memory.cpp
   src/core/robust/chunk_sums.cpp
   src/core/robust/loss_estimate.cpp
   src/core/robust/regime_decision.cpp
+  src/core/robust/switch_detection.cpp
   src/core/closed_loop.cpp
   src/core/step_sequencer.cpp
   src/core/margins.cpp

@@ -9,8 +9,8 @@ if(CATKIN_ENABLE_TESTING)
       core/solvers core/closed_loop core/margins core/step_sequencer core/config core/safety
       core/fast_paths core/own_aircraft core/schema/param_table
       core/sim/plant_parts core/sim/plant_engine core/sim/family
-      core/control/attention core/control/gradients core/control/l1
-      core/robust/robust core/robust/robust_parts
+      core/control/attention core/control/paper/gradients core/control/l1/l1
+      core/robust/robust core/robust/robust_parts core/robust/switch_detection
       core/controller/tunables core/controller/saturation
       io/weights_io)
   foreach(entry ${PMRAC_CORE_TESTS})

@@ -202,6 +202,16 @@ ControllerDesign designFromGain(const Eigen::MatrixXd& A, const Eigen::VectorXd&
   return d;
 }
 
+Rk4Hold rk4Hold(const Eigen::MatrixXd& A, double dt) {
+  const Eigen::MatrixXd M = A * dt;
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(A.rows(), A.rows());
+  const Eigen::MatrixXd M2 = M * M, M3 = M2 * M, M4 = M3 * M;
+  Rk4Hold h;
+  h.Phi = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
+  h.G = dt * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0);
+  return h;
+}
+
 ControllerDesign designController(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
                                   const Eigen::MatrixXd& Q, double R) {
   const LqrSolution lqr = solveLqr(A, B, Q, R);

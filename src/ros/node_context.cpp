@@ -92,7 +92,7 @@ PublisherGuard makePublisherGuard(const NodeContext& ctx, const std::vector<std:
 
 namespace {
 // SIGINT to the parent process when it is a local roslaunch; false when it is not (or the
-// signal failed), and the caller exits as before.
+// signal failed), and the caller then exits on its own.
 bool endLaunchQuietly() {
   const pid_t parent = getppid();
   std::ifstream f("/proc/" + std::to_string(parent) + "/cmdline");

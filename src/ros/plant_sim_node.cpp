@@ -201,7 +201,7 @@ void PlantSimNode::publishSample(const ros::Time& stamp) {
   truth->condition_names.reserve(kPlantConditionTable.size());
   truth->conditions.reserve(kPlantConditionTable.size());
   truth->condition_of_previous_step.reserve(kPlantConditionTable.size());
-  // Every row of the plant's (as before the engine's existed), the engine's on an engine.
+  // The plant's rows always, the engine's too on an engine.
   const ConditionRows rows{true, sim_.engine() != nullptr};
   for (const PlantConditionColumn& c : kPlantConditionTable) {
     if (!rows.has(c)) continue;

@@ -21,7 +21,8 @@ void widen(Span* span, const std::string& key, double v) {
   it->second = {std::min(it->second.first, v), std::max(it->second.second, v)};
 }
 
-// Feasible regimes: only with elevator limits (without, the draws are as they always were).
+// Feasible regimes: only with elevator limits (without, or with every_regime, every regime
+// drawn is flown: no check).
 std::optional<TrimCheck> trimCheck(const Options& opt, const FamilySpec& spec,
                                    const RunConfig& cfg) {
   const ActuatorLimits& limits = cfg.plant.actuator;

@@ -152,3 +152,24 @@ TEST(Solvers, LyapunovRefusesSingular) {
   A << 1, 0, 0, -1;  // lambda_1 + lambda_2 = 0
   EXPECT_EQ(causeOf([&] { solveLyapunov(A, Eigen::MatrixXd::Identity(2, 2)); }), "singular");
 }
+
+TEST(Solvers, Rk4HoldIsOneClassicRk4StepWithTheInputHeld) {
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (int n = 1; n <= 5; ++n) {
+    Eigen::MatrixXd A(n, n);
+    Eigen::VectorXd x(n), b(n);
+    for (int i = 0; i < n; ++i) {
+      x[i] = u(gen);
+      b[i] = u(gen);
+      for (int j = 0; j < n; ++j) A(i, j) = u(gen);
+    }
+    const double dt = 0.05, w = u(gen);
+    const auto f = [&](const Eigen::VectorXd& s) -> Eigen::VectorXd { return A * s + b * w; };
+    const Eigen::VectorXd k1 = f(x), k2 = f(x + dt / 2 * k1), k3 = f(x + dt / 2 * k2),
+                          k4 = f(x + dt * k3);
+    const Eigen::VectorXd rk4 = x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    const Rk4Hold hold = rk4Hold(A, dt);
+    EXPECT_LT((hold.Phi * x + hold.G * b * w - rk4).norm(), 1e-13 * (1.0 + rk4.norm())) << n;
+  }
+}

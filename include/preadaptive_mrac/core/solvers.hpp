@@ -70,4 +70,15 @@ ControllerDesign designFromGain(const Eigen::MatrixXd& A, const Eigen::VectorXd&
 /// \brief Throw SolverError p_not_positive_definite unless the symmetric matrix is > 0.
 void requirePositiveDefinite(const Eigen::MatrixXd& P, const std::string& name);
 
+/// \brief Classic RK4 over one sample of x' = A x + b w with the input w held over the sample
+/// is exactly x_{k+1} = Phi x_k + G b w_k with M = A dt,
+/// Phi = I + M + M^2/2 + M^3/6 + M^4/24 and G = dt (I + M/2 + M^2/6 + M^3/24).
+struct Rk4Hold {
+  Eigen::MatrixXd Phi;  ///< transition over dt
+  Eigen::MatrixXd G;    ///< G b: the input vector of b over dt [s]
+};
+/// \brief The RK4-hold discretisation of A over dt [s]: the reference model, the L1 predictor
+/// and the attention thresholds' step response are stepped with it alike.
+Rk4Hold rk4Hold(const Eigen::MatrixXd& A, double dt);
+
 }  // namespace preadaptive_mrac

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "preadaptive_mrac/core/solvers.hpp"
+
 namespace preadaptive_mrac {
 
 DerivedAttention deriveAttentionThresholds(const Eigen::MatrixXd& Ar, const Eigen::VectorXd& B,
@@ -15,15 +17,13 @@ DerivedAttention deriveAttentionThresholds(const Eigen::MatrixXd& Ar, const Eige
   // stepped), over ten of the slowest time constants of A_r.
   const double slowest = Ar.eigenvalues().real().cwiseAbs().minCoeff();
   const double horizon = std::min(10.0 / std::max(slowest, 1e-3), 600.0);
-  const Eigen::Index n = Ar.rows();
-  const Eigen::MatrixXd M = Ar * dt, I = Eigen::MatrixXd::Identity(n, n);
-  const Eigen::MatrixXd M2 = M * M, M3 = M2 * M, M4 = M3 * M;
-  const Eigen::MatrixXd Phi = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
-  const Eigen::VectorXd Gam = dt * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * B * d.disturbance;
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+  const Rk4Hold hold = rk4Hold(Ar, dt);
+  const Eigen::VectorXd GB = hold.G * B;
+  const Eigen::VectorXd Gam = GB * d.disturbance;
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(Ar.rows());
   const long steps = static_cast<long>(std::ceil(horizon / dt));
   for (long k = 0; k < steps; ++k) {
-    e = Phi * e + Gam;
+    e = hold.Phi * e + Gam;
     d.error_peak = std::max(d.error_peak, std::abs(e[out]));
   }
   d.noise_floor = kAttentionNoiseFactor * noise_std;

@@ -35,17 +35,15 @@ Controller::Controller(const DesignModel& model, const ControllerConfig& cfg,
   B_ = model.B;
   PB_ = design_.P * model.B;
   b_ref_ = model.B1r + cfg.k0 * model.B;
-  const Eigen::MatrixXd M = design_.Ar * dt_;
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n_, n_);
-  const Eigen::MatrixXd M2 = M * M, M3 = M2 * M, M4 = M3 * M;
-  // Classic RK4 applied to x_r' = A_r x_r + b r with r held: exactly these polynomials.
-  Phi_r_ = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
-  Gam_r_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * b_ref_;
+  // The reference model x_r' = A_r x_r + b r, RK4 with r held over the sample.
+  const Rk4Hold hold = rk4Hold(design_.Ar, dt_);
+  Phi_r_ = hold.Phi;
+  Gam_r_ = hold.G * b_ref_;
   x0_ = model.x0;
   ev_.setZero(n_);
   // Hedging needs limits the controller knows; without them nothing is ever limited.
   hedge_ = cfg.hedging == Hedging::kPch && model.limits.enabled;
-  Gam_b_ = dt_ * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0) * B_;
+  Gam_b_ = hold.G * B_;
   ev_h_.setZero(n_);
   limits_ = model.limits;
   const ModeEntry* mode = findMode(cfg.mode);

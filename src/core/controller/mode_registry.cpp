@@ -3,10 +3,10 @@
 #include <stdexcept>
 
 #include "preadaptive_mrac/core/control/design_model.hpp"
-#include "preadaptive_mrac/core/control/l1_law.hpp"
-#include "preadaptive_mrac/core/control/mrac_law.hpp"
-#include "preadaptive_mrac/core/control/oracle_preadaptation.hpp"
-#include "preadaptive_mrac/core/control/paper_preadaptation.hpp"
+#include "preadaptive_mrac/core/control/l1/l1_law.hpp"
+#include "preadaptive_mrac/core/control/mrac/mrac_law.hpp"
+#include "preadaptive_mrac/core/control/oracle/oracle_preadaptation.hpp"
+#include "preadaptive_mrac/core/control/paper/paper_preadaptation.hpp"
 #include "preadaptive_mrac/core/robust/robust_preadaptation.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 #include "preadaptive_mrac/params/modes_params.hpp"

@@ -7,6 +7,7 @@
 #include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
 #include "preadaptive_mrac/core/robust/regime_decision.hpp"
+#include "preadaptive_mrac/core/robust/switch_detection.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 
@@ -22,7 +23,7 @@ RobustPreadaptation::RobustPreadaptation(const ControllerParams& cfg, const Robu
                                          const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
                                          const Eigen::VectorXd& B1r, const Vec& K,
                                          PreadaptNetwork* net)
-    : rc_(robust),
+    : robust_(robust),
       K_(K),
       projection_(cfg.projection),
       theta_max_(cfg.theta_max),
@@ -30,83 +31,85 @@ RobustPreadaptation::RobustPreadaptation(const ControllerParams& cfg, const Robu
       A_(A),
       B_(B),
       B1r_(B1r),
-      bb_(B.squaredNorm()),
+      b_norm2_(B.squaredNorm()),
       net_(net),
       loss_(static_cast<int>(B.size())) {
   sizeWindows();
   const int n = static_cast<int>(B.size());
-  win_.resize(cap_, Ll_, n);
+  window_.resize(ring_capacity_, long_samples_, n);
   x_prev_.setZero(n);
   theta_keep_.setZero(n);
   theta_net_.setZero(n);
   regime_.clear(n);
   prior_.setZero(n);
-  net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
+  net_->state().regimes.reserve(static_cast<size_t>(std::max(robust_.memory_size, 0)) + 1);
   reset();
 }
 
 void RobustPreadaptation::sizeWindows() {
-  Ld_ = samplesOf(rc_.detect_window, dt_);
-  Lc_ = samplesOf(rc_.chunk, dt_);
-  Lv_ = samplesOf(rc_.verify_time, dt_);
-  Lq_ = samplesOf(rc_.quiet_time, dt_);
-  Ls_ = samplesOf(rc_.settle_time, dt_);
-  Lw_ = samplesOf(rc_.min_dwell, dt_);
-  Ll_ = rc_.long_window > 0.0 ? std::max(Ld_, samplesOf(rc_.long_window, dt_)) : 0;
-  cap_ = std::max({2 * Ld_, Lv_ + 2 * Ld_, 2 * Ll_}) + 2;
+  detect_samples_ = samplesOf(robust_.detect_window, dt_);
+  chunk_samples_ = samplesOf(robust_.chunk, dt_);
+  verify_samples_ = samplesOf(robust_.verify_time, dt_);
+  quiet_samples_ = samplesOf(robust_.quiet_time, dt_);
+  settle_samples_ = samplesOf(robust_.settle_time, dt_);
+  dwell_samples_ = samplesOf(robust_.min_dwell, dt_);
+  long_samples_ = robust_.long_window > 0.0
+                      ? std::max(detect_samples_, samplesOf(robust_.long_window, dt_))
+                      : 0;
+  ring_capacity_ =
+      std::max({2 * detect_samples_, verify_samples_ + 2 * detect_samples_, 2 * long_samples_}) + 2;
 }
 
 bool RobustPreadaptation::setTunables(const ControllerParams& cfg, const RobustParams& robust) {
-  const int ld = Ld_, lc = Lc_, lv = Lv_, ll = Ll_;
-  rc_ = robust;
+  const int ld = detect_samples_, lc = chunk_samples_, lv = verify_samples_, ll = long_samples_;
+  robust_ = robust;
   projection_ = cfg.projection;
   theta_max_ = cfg.theta_max;
   sizeWindows();
-  net_->state().regimes.reserve(static_cast<size_t>(std::max(rc_.memory_size, 0)) + 1);
+  net_->state().regimes.reserve(static_cast<size_t>(std::max(robust_.memory_size, 0)) + 1);
   const int before = memory().size();
   memory().trim();
   if (memory().size() != before) recalled_ = -1;  // indices moved
-  if (Ld_ == ld && Lc_ == lc && Lv_ == lv && Ll_ == ll) return false;
+  if (detect_samples_ == ld && chunk_samples_ == lc && verify_samples_ == lv && long_samples_ == ll)
+    return false;
   // The ring's sums and the detection statistics are per window: start them again.
-  win_.resize(cap_, Ll_, B_.size());
+  window_.resize(ring_capacity_, long_samples_, B_.size());
   reset();
   return true;
 }
 
 void RobustPreadaptation::reset() {
-  win_.clear();
+  window_.clear();
   k_ = 0;
   have_prev_ = false;
-  rho_ = 0.0;
-  dev_ = 0.0;
-  dev_init_ = false;
-  noise_blocks_ = 0;
+  residual_ = 0.0;
+  noise_ = NoiseEstimate();
   last_trigger_k_ = -1000000000;
   verifying_ = false;
   post_start_k_ = verify_end_k_ = next_decision_k_ = regime_start_k_ = 0;
-  quiet_ = 0;
+  quiet_count_ = 0;
   recalled_ = -1;
   phase_cost_ = 0.0;
   regime_fit_ = false;
   regime_.c = 0.0;
   next_chunk_k_ = 0;
-  rho_long_ = 0.0;
+  long_residual_ = 0.0;
   long_trigger_ = false;
   nu_regime_ = nu_decided_ = 0.0;
   loss_.restart(-1);
   loss_.clearBlock();
   t_prev_ = 0.0;
   // The regime flown from the start is identified as one after an onset.
-  excite_until_ = rc_.excitation_time;
+  excite_until_ = robust_.excitation_time;
 }
 
 RegimeMemory RobustPreadaptation::memory() {
-  return RegimeMemory(&net_->state().regimes, rc_.memory_size);
+  return RegimeMemory(&net_->state().regimes, robust_.memory_size);
 }
 
-// The generic branch of detect() written out for three states. Eigen evaluates A xm as a
-// matrix-vector product (GEMV): each row accumulated from 0 over the columns and then added
-// to the zeroed destination; the rest is element-wise.
+// phi = dt x_mid and d = x_k - x_{k-1} - dt (A x_mid + B u + B1r r) for three states, with the
+// bits of the generic branch of detect(): Eigen forms A x_mid as a matrix-vector product whose
+// every row is summed from column 0 up, and adds the input terms after it, left to right.
 void RobustPreadaptation::residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi,
                                           Vec* d) const {
   const double xm[3] = {0.5 * (x_prev_[0] + x[0]), 0.5 * (x_prev_[1] + x[1]),
@@ -114,20 +117,30 @@ void RobustPreadaptation::residualSample3(const Vec& x, double u_prev, double r_
   phi->resize(3);
   d->resize(3);
   for (int i = 0; i < 3; ++i) {
-    double c = A_(i, 0) * xm[0] + 0.0;
-    c = A_(i, 1) * xm[1] + c;
-    c = A_(i, 2) * xm[2] + c;
-    const double f = c + 0.0;
-    (*d)[i] = (x[i] - x_prev_[i]) - dt_ * ((f + B_[i] * u_prev) + B1r_[i] * r_prev);
+    const double ax = (A_(i, 0) * xm[0] + A_(i, 1) * xm[1]) + A_(i, 2) * xm[2];
+    (*d)[i] = (x[i] - x_prev_[i]) - dt_ * ((ax + B_[i] * u_prev) + B1r_[i] * r_prev);
     (*phi)[i] = dt_ * xm[i];
   }
 }
 
-double RobustPreadaptation::triggerThreshold() const {
-  return std::max(rc_.threshold, rc_.noise_factor * noiseLevel());
+DetectionSettings RobustPreadaptation::detectionSettings() const {
+  DetectionSettings set;
+  set.threshold = robust_.threshold;
+  set.noise_factor = robust_.noise_factor;
+  set.window_time = detect_samples_ * dt_;
+  set.noise_time = robust_.noise_time;
+  set.detect_window = detect_samples_;
+  set.long_window = long_samples_;
+  set.min_dwell = dwell_samples_;
+  set.quiet = quiet_samples_;
+  return set;
 }
 
-Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {
+double RobustPreadaptation::triggerThreshold() const {
+  return shortThreshold(detectionSettings(), noiseLevel());
+}
+
+void RobustPreadaptation::addSample(const Sample& s, const Vec& theta_hat) {
   const Vec& x = *s.x;
   Vec phi_k, d;
   double y_k = 0.0, v_k = 0.0;
@@ -143,70 +156,53 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
       d -= dt_ * (f + B_ * s.u_prev + B1r_ * s.r_prev);
       phi_k = dt_ * xm;
     }
-    y_k = dotOf(B_, d) / bb_;
+    y_k = dotOf(B_, d) / b_norm2_;
     v_k = -s.u_prev * dt_ - K_.dot(phi_k);
-    win_.push(phi_k, y_k, theta_hat, v_k);
+    window_.push(phi_k, y_k, theta_hat, v_k);
   }
   copyTo(x, &x_prev_);
   have_prev_ = true;
   ++k_;
   // The loss fit's sample covers [t_prev, t_k]: the command there carried excitation(t_prev).
-  if (sample && rc_.excitation > 0.0 && rc_.loss_max > 0.0)
+  if (sample && robust_.excitation > 0.0 && robust_.loss_max > 0.0)
     loss_.add(k_, excitationHalf(t_prev_), phi_k, y_k, v_k, excitation(t_prev_) * dt_);
   t_prev_ = s.t;
-  if (win_.count() < Ld_) return Detection::kNone;
+}
 
-  const double Td = Ld_ * dt_;
+Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Attention* attention) {
+  addSample(s, theta_hat);
+  if (window_.count() < detect_samples_) return Detection::kNone;
+
+  const double window_time = detect_samples_ * dt_;
   Vec phi;
   double y = 0.0;
-  win_.sums(0, Ld_, &phi, &y);
-  rho_ = (y - dotOf(theta_hat, phi)) / Td;
-  const double thr = triggerThreshold();
-
-  // Noise level from the change of the residual between adjacent windows: a constant mismatch
-  // cancels, noise does not (E|delta| = 2 sigma / sqrt(pi)). Each step is clipped at four
-  // times the estimate, so a switch barely moves it; paused while verifying.
-  if (k_ % Ld_ == 0 && win_.count() >= 2 * Ld_ && !verifying_) {
-    Vec phi_p;
-    double y_p = 0.0;
-    win_.sums(Ld_, Ld_, &phi_p, &y_p);
-    const double delta = std::abs(rho_ - (y_p - dotOf(theta_hat, phi_p)) / Td);
-    // A running mean over the first blocks, then an exponential one over noise_time.
-    const double beta = std::max(1.0 / (noise_blocks_ + 1), std::min(1.0, Td / rc_.noise_time));
-    if (!dev_init_) {
-      dev_ = delta;
-      dev_init_ = true;
-    } else {
-      dev_ += beta * (std::min(delta, std::max(4.0 * dev_, rc_.threshold)) - dev_);
-    }
-    ++noise_blocks_;
+  window_.sums(0, detect_samples_, &phi, &y);
+  Residuals rho;
+  rho.detect = residual_ = (y - dotOf(theta_hat, phi)) / window_time;
+  const DetectionSettings set = detectionSettings();
+  DetectionClock clock;
+  clock.since_onset = k_ - last_trigger_k_;
+  clock.since_verified = k_ - verify_end_k_;
+  clock.stored = window_.count();
+  clock.noise_due = k_ % detect_samples_ == 0 && window_.count() >= 2 * detect_samples_;
+  clock.verifying = verifying_;
+  clock.decision_due = k_ >= next_decision_k_;
+  clock.phase_active = attention->phaseActive();
+  // The window before and the long window: summed only when they are read.
+  if (clock.noise_due && !verifying_) {
+    window_.sums(detect_samples_, detect_samples_, &phi, &y);
+    rho.previous = (y - dotOf(theta_hat, phi)) / window_time;
   }
-
-  if (verifying_) return k_ >= next_decision_k_ ? Detection::kDecision : Detection::kNone;
-  // No trigger before the noise level is known (kMinNoiseBlocks windows of data).
-  if (noise_blocks_ < kMinNoiseBlocks) return Detection::kNone;
-  if (std::abs(rho_) > thr && k_ - last_trigger_k_ >= std::max(Ld_, Lw_)) {
-    long_trigger_ = false;
-    return Detection::kOnset;
+  if (longWindowDue(set, clock)) {
+    long_residual_ =
+        (window_.yLong() - dotOf(theta_hat, window_.phiLong())) / (long_samples_ * dt_);
+    rho.long_window = long_residual_;
   }
-  // The long window: a small mismatch that stays under the short window's noise-raised
-  // threshold for long. Its noise is endpoint noise, Ld_ / Ll_ of the short window's; it sees
-  // only data since the last reset (older data is judged against a theta_hat it did not have).
-  if (Ll_ > Ld_ && win_.count() >= Ll_ && k_ - last_trigger_k_ >= std::max(Ll_, Lw_) &&
-      k_ - verify_end_k_ >= Ll_) {
-    rho_long_ = (win_.yLong() - dotOf(theta_hat, win_.phiLong())) / (Ll_ * dt_);
-    const double thr_long =
-        std::max(rc_.threshold, rc_.noise_factor * noiseLevel() * static_cast<double>(Ld_) / Ll_);
-    if (std::abs(rho_long_) > thr_long) {
-      long_trigger_ = true;
-      return Detection::kOnset;
-    }
-  }
-  if (attention->phaseActive()) {
-    quiet_ = std::abs(rho_) <= thr ? quiet_ + 1 : 0;
-    if (quiet_ >= Lq_) return Detection::kRecovered;
-  }
-  return Detection::kNone;
+  const DetectionResult det = detectSwitch(rho, noise_, clock, quiet_count_, set);
+  noise_ = det.noise;
+  if (det.kind == Detection::kOnset) long_trigger_ = det.long_trigger;
+  quiet_count_ = det.quiet;
+  return det.kind;
 }
 
 void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
@@ -214,22 +210,23 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   // while the data is post-change and stays flat before: take the shortest span holding 90 %
   // of its largest excursion in the direction of the residual.
   const int span =
-      long_trigger_ ? static_cast<int>(std::min<std::int64_t>(
-                          {static_cast<std::int64_t>(win_.count()), 2 * Ll_, k_ - verify_end_k_}))
-                    : std::min(win_.count(), std::max(2 * Ld_, 2));
-  const double rho = long_trigger_ ? rho_long_ : rho_;
+      long_trigger_
+          ? static_cast<int>(std::min<std::int64_t>({static_cast<std::int64_t>(window_.count()),
+                                                     2 * long_samples_, k_ - verify_end_k_}))
+          : std::min(window_.count(), std::max(2 * detect_samples_, 2));
+  const double rho = long_trigger_ ? long_residual_ : residual_;
   const double sgn = rho >= 0.0 ? 1.0 : -1.0;
   double S = 0.0, best = 0.0;
   for (int j = 0; j < span; ++j) {
-    const int i = win_.at(j);
-    S += sgn * (win_.y(i) - theta_hat->dot(win_.phi(i)));
+    const int i = window_.at(j);
+    S += sgn * (window_.y(i) - theta_hat->dot(window_.phi(i)));
     best = std::max(best, S);
   }
   int m = span;
   S = 0.0;
   for (int j = 0; j < span; ++j) {
-    const int i = win_.at(j);
-    S += sgn * (win_.y(i) - theta_hat->dot(win_.phi(i)));
+    const int i = window_.at(j);
+    S += sgn * (window_.y(i) - theta_hat->dot(window_.phi(i)));
     if (S >= 0.9 * best) {
       m = j + 1;
       break;
@@ -238,67 +235,68 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   m = std::max(m, std::min(2, span));
   post_start_k_ = k_ - m + 1;
   // The estimate of the regime just left: theta_hat before the change.
-  theta_keep_ = m < win_.count() ? win_.theta(win_.at(m)) : *theta_hat;
+  theta_keep_ = m < window_.count() ? window_.theta(window_.at(m)) : *theta_hat;
 
   // Bank the regime just left when it lasted long enough for the estimate to settle.
-  if (k_ - regime_start_k_ >= Ls_ && win_.count() > m) {
+  if (k_ - regime_start_k_ >= settle_samples_ && window_.count() > m) {
     Vec dir;
     double ysum = 0.0;
-    const int len = std::min(Ld_, win_.count() - m);
-    win_.sums(m, len, &dir, &ysum);
+    const int len = std::min(detect_samples_, window_.count() - m);
+    window_.sums(m, len, &dir, &ysum);
     // With the loss of effectiveness fitted over the visit (pooled with the entry's).
     const std::pair<double, double> loss = lossFit();
-    memory().remember(theta_keep_, dir / (len * dt_), rc_.merge_tolerance, loss.first, loss.second);
+    memory().remember(theta_keep_, dir / (len * dt_), robust_.merge_tolerance, loss.first,
+                      loss.second);
   }
   loss_.restart(-1);
 
   // Probe the elevator while this regime is identified, not in the steady flight after it.
-  if (rc_.excitation_time > 0.0) excite_until_ = s.t + rc_.excitation_time;
+  if (robust_.excitation_time > 0.0) excite_until_ = s.t + robust_.excitation_time;
   z_onset_ << s.e, std::abs(s.e_dot);
-  if (rc_.use_network) net_->forward(z_onset_, &theta_net_);
+  if (robust_.use_network) net_->forward(z_onset_, &theta_net_);
   last_trigger_k_ = k_;
   regime_fit_ = false;
   verifying_ = true;
   first_move_ = true;
-  verify_end_k_ = k_ + Lv_;
-  next_decision_k_ = k_ + Lc_;
-  quiet_ = 0;
+  verify_end_k_ = k_ + verify_samples_;
+  next_decision_k_ = k_ + chunk_samples_;
+  quiet_count_ = 0;
   recalled_ = -1;
   phase_cost_ = 0.0;
-  if (m >= Lc_) {
+  if (m >= chunk_samples_) {
     decide(theta_hat, ev);
   } else {  // too little post-change data to decide on: the first decision comes with a chunk
-    next_decision_k_ = post_start_k_ + Lc_ - 1;
+    next_decision_k_ = post_start_k_ + chunk_samples_ - 1;
   }
 }
 
 void RobustPreadaptation::onDecision(const Sample& s, Vec* theta_hat, Event* ev) {
   (void)s;
   decide(theta_hat, ev);
-  next_decision_k_ += Lc_;
+  next_decision_k_ += chunk_samples_;
   if (k_ >= verify_end_k_) {
     verifying_ = false;
-    quiet_ = 0;
+    quiet_count_ = 0;
     regime_start_k_ = post_start_k_;
     if (recalled_ >= 0) memory().markUsed(recalled_);
     // Concurrent learning from here on: the regime's data so far, then every new chunk.
-    regime_fit_ = rc_.cl_gain > 0.0;
+    regime_fit_ = robust_.cl_gain > 0.0;
     regime_.clear(B_.size());
-    const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
+    const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, window_.count()));
     addChunks(&regime_, m, true);
     // The regime's fit aims with the loss the last decision used (a recalled entry's).
     nu_regime_ = nu_decided_;
     loss_.restart(k_);
     prior_ = *theta_hat;
-    next_chunk_k_ = k_ + Lc_;
+    next_chunk_k_ = k_ + chunk_samples_;
   }
 }
 
 int RobustPreadaptation::addChunks(ChunkSums* sums, int m, bool with_loss) const {
   int chunks = 0;
-  for (int j0 = m - 1; j0 >= 0; j0 -= Lc_, ++chunks) {
-    const int len = std::min(Lc_, j0 + 1);
-    sums->add(win_, j0 - len + 1, len, with_loss);
+  for (int j0 = m - 1; j0 >= 0; j0 -= chunk_samples_, ++chunks) {
+    const int len = std::min(chunk_samples_, j0 + 1);
+    sums->add(window_, j0 - len + 1, len, with_loss);
   }
   return chunks;
 }
@@ -306,46 +304,47 @@ int RobustPreadaptation::addChunks(ChunkSums* sums, int m, bool with_loss) const
 double RobustPreadaptation::chunkSigma() const {
   // The noise of a chunk sum is endpoint noise, the same as of a detection-window sum; a floor
   // of a tenth of the threshold keeps clean data from acting on round-off.
-  return std::max(noiseLevel() * Ld_ * dt_, 0.1 * rc_.threshold * Lc_ * dt_);
+  return std::max(noiseLevel() * detect_samples_ * dt_,
+                  0.1 * robust_.threshold * chunk_samples_ * dt_);
 }
 
 bool RobustPreadaptation::refine(Vec* theta_hat) {
   if (!regime_fit_ || verifying_ || k_ < next_chunk_k_) return false;
-  next_chunk_k_ += Lc_;
-  regime_.add(win_, 0, Lc_, nu_regime_ > 0.0);
+  next_chunk_k_ += chunk_samples_;
+  regime_.add(window_, 0, chunk_samples_, nu_regime_ > 0.0);
   // With a loss nu the data reads y = (1 - nu) th^T phi + nu (theta_rec^T phi + ...) for the
   // loop's fixed point th: the fit aims at th through (Y - nu v) / (1 - nu).
   const double nu = nu_regime_;
   // Bayesian least squares of the regime's data around the prior (the decision's estimate):
   // excited directions follow the data, unexcited ones stay at the prior.
-  const Vec fit =
-      ridgeFit(regime_.G, regime_.hFixed(nu), prior_, chunkSigma(), rc_.prior_std, rc_.ridge);
-  const double step = std::min(1.0, rc_.cl_gain * Lc_ * dt_);
+  const Vec fit = ridgeFit(regime_.G, regime_.hFixed(nu), prior_, chunkSigma(), robust_.prior_std,
+                           robust_.ridge);
+  const double step = std::min(1.0, robust_.cl_gain * chunk_samples_ * dt_);
   Vec next = *theta_hat + step * (fit - *theta_hat);
   // Do no harm along the recent data: the pull may not make theta_hat explain the last long
   // window worse than it did, beyond noise. The regime's fit also carries the data since the
   // change and its prior; along the direction the plant shows now, the recent data is the
   // better judge (on a steady state a drift along it builds an error that rac would not have).
   const int len = static_cast<int>(
-      std::min<std::int64_t>({static_cast<std::int64_t>(Ll_), k_ - post_start_k_ + 1,
-                              static_cast<std::int64_t>(win_.count())}));
+      std::min<std::int64_t>({static_cast<std::int64_t>(long_samples_), k_ - post_start_k_ + 1,
+                              static_cast<std::int64_t>(window_.count())}));
   if (len > 0) {
     Vec phi;
     double y = 0.0;
-    if (len == Ll_ && win_.count() >= Ll_) {
-      // The whole long window: its running sums (push()), not a fresh sum of Ll_ samples
-      // every chunk (that sum was a sixth of pa_robust's instructions).
-      phi = win_.phiLong();
-      y = win_.yLong();
+    if (len == long_samples_ && window_.count() >= long_samples_) {
+      // The whole long window: its running sums (push()), not a fresh sum of long_samples_
+      // samples every chunk (that sum would be a sixth of pa_robust's instructions).
+      phi = window_.phiLong();
+      y = window_.yLong();
     } else {
-      win_.sums(0, len, &phi, &y);
+      window_.sums(0, len, &phi, &y);
     }
-    if (nu > 0.0) y = (y - nu * win_.vSum(0, len)) / (1.0 - nu);
+    if (nu > 0.0) y = (y - nu * window_.vSum(0, len)) / (1.0 - nu);
     const double pp = phi.squaredNorm();
     if (pp > 0.0) {
       const double r0 = y - theta_hat->dot(phi);
       const double r1 = y - next.dot(phi);
-      const double allowed = std::max(std::abs(r0), std::sqrt(rc_.significance) * chunkSigma());
+      const double allowed = std::max(std::abs(r0), std::sqrt(robust_.significance) * chunkSigma());
       if (std::abs(r1) > allowed) next += phi * ((r1 - (r1 > 0.0 ? allowed : -allowed)) / pp);
     }
   }
@@ -365,20 +364,20 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
     cand.memory_loss.push_back(entryLoss(mem.at(i)));
     any_loss = any_loss || cand.memory_loss.back() > 0.0;
   }
-  cand.use_network = rc_.use_network;
+  cand.use_network = robust_.use_network;
   if (cand.use_network) cand.network = theta_net_;
   // Post-change data in chunks, and its plain sums.
-  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, win_.count()));
+  const int m = static_cast<int>(std::min<std::int64_t>(k_ - post_start_k_ + 1, window_.count()));
   DecisionData data;
   data.chunks.clear(B_.size());
   const int chunks = addChunks(&data.chunks, m, any_loss);
-  win_.sums(0, m, &data.phi_tot, &data.y_tot);
+  window_.sums(0, m, &data.phi_tot, &data.y_tot);
   DecisionSettings set;
   set.sigma = chunkSigma();
-  set.z = std::sqrt(rc_.significance);  // in standard deviations
-  set.margin = rc_.margin;
-  set.prior_std = rc_.prior_std;
-  set.ridge = rc_.ridge;
+  set.z = std::sqrt(robust_.significance);  // in standard deviations
+  set.margin = robust_.margin;
+  set.prior_std = robust_.prior_std;
+  set.ridge = robust_.ridge;
   set.first_move = first_move_;
   set.clip = k_ < verify_end_k_;
   const DecisionResult res = decideRegime(data, cand, set);
@@ -395,7 +394,7 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
   ev->decision = kind;
   ev->chosen = res.chosen;
   ev->candidates = res.candidates;
-  const double Tc = Lc_ * dt_;
+  const double Tc = chunk_samples_ * dt_;
   const double norm = 1.0 / (std::sqrt(static_cast<double>(std::max(chunks, 1))) * Tc);
   ev->score =
       std::sqrt(kind == Event::Decision::kKeep ? res.error_keep : data.chunks.error(*theta_hat)) *
@@ -406,23 +405,23 @@ void RobustPreadaptation::decide(Vec* theta_hat, Event* ev) {
 double RobustPreadaptation::entryLoss(const RegimeEntry& e) const {
   // Only a loss `significance` (3 sigma) from 0; an elevator more effective than modelled
   // (nu < 0) is not used.
-  if (rc_.loss_max <= 0.0 || !(e.loss_info > 0.0)) return 0.0;
-  if (!(e.loss * std::sqrt(e.loss_info) > std::sqrt(rc_.significance))) return 0.0;
-  return std::min(e.loss, rc_.loss_max);
+  if (robust_.loss_max <= 0.0 || !(e.loss_info > 0.0)) return 0.0;
+  if (!(e.loss * std::sqrt(e.loss_info) > std::sqrt(robust_.significance))) return 0.0;
+  return std::min(e.loss, robust_.loss_max);
 }
 
 std::int64_t RobustPreadaptation::excitationHalf(double t) const {
-  return static_cast<std::int64_t>(std::floor(2.0 * t / rc_.excitation_period + 1e-9));
+  return static_cast<std::int64_t>(std::floor(2.0 * t / robust_.excitation_period + 1e-9));
 }
 
 double RobustPreadaptation::excitation(double t) const {
-  if (rc_.excitation <= 0.0) return 0.0;
-  if (rc_.excitation_time > 0.0 && !(t < excite_until_)) return 0.0;
-  return excitationHalf(t) % 2 == 0 ? rc_.excitation : -rc_.excitation;
+  if (robust_.excitation <= 0.0) return 0.0;
+  if (robust_.excitation_time > 0.0 && !(t < excite_until_)) return 0.0;
+  return excitationHalf(t) % 2 == 0 ? robust_.excitation : -robust_.excitation;
 }
 
 std::pair<double, double> RobustPreadaptation::lossFit() const {
-  if (rc_.loss_max <= 0.0 || rc_.excitation <= 0.0) return {0.0, 0.0};
+  if (robust_.loss_max <= 0.0 || robust_.excitation <= 0.0) return {0.0, 0.0};
   return loss_.fit(chunkSigma());
 }
 
@@ -437,15 +436,16 @@ void RobustPreadaptation::onRecovery(const Sample& s, const Vec& theta_hat, Even
   ev->cost = phase_cost_;
   Vec dir;
   double ysum = 0.0;
-  win_.sums(0, std::min(Ld_, win_.count()), &dir, &ysum);
-  memory().remember(theta_hat, dir / (std::min(Ld_, win_.count()) * dt_), rc_.merge_tolerance);
-  if (rc_.use_network && rc_.network_rate > 0.0) {
+  window_.sums(0, std::min(detect_samples_, window_.count()), &dir, &ysum);
+  memory().remember(theta_hat, dir / (std::min(detect_samples_, window_.count()) * dt_),
+                    robust_.merge_tolerance);
+  if (robust_.use_network && robust_.network_rate > 0.0) {
     // Supervised: move the network's prediction at this onset's input towards the regime's
     // settled estimate (E = |theta_I - theta_hat|^2 / 2, so dE/dtheta_I = theta_I - theta_hat).
     Vec pred;
     net_->forward(z_onset_, &pred);
     ev->grad = pred - theta_hat;
-    net_->learn(z_onset_, ev->grad, rc_.network_rate);
+    net_->learn(z_onset_, ev->grad, robust_.network_rate);
     ev->learned = true;
   }
 }

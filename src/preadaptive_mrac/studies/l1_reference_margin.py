@@ -2,7 +2,7 @@
 tends to (docs/research/l1.md, "Time-delay margin and the reference system").
 
 The plant is x_dot = A x + B (u(t - tau) + theta^T x) + B1r r, the controller u = -K x + u_ad
-(src/core/l1_law.cpp, k0 = 0). Three loops, each broken at the plant input (where
+(src/core/control/l1/l1_law.cpp, k0 = 0). Three loops, each broken at the plant input (where
 plant.actuator.delay acts), G_theta(s) = (sI - A - B theta^T)^-1 B, C(s) = omega / (s + omega):
 
 - reference system (the estimate equals the true uncertainty, u_ad = -C(s) theta^T x):

@@ -1,7 +1,7 @@
 #pragma once
 /// \file adaptive_law.hpp
 /// \brief The adaptive-law seam: what the controller asks of an adaptive law (MRAC today,
-/// mrac_law.hpp). A law owns its estimate theta_hat, its control term u_ad and its update.
+/// mrac/mrac_law.hpp). A law owns its estimate theta_hat, its control term u_ad and its update.
 ///
 /// Adding a law (docs/design.md, "Adding a part"):
 ///   1. a class implementing AdaptiveLaw in core/<name>_law.{hpp,cpp}, with its own config

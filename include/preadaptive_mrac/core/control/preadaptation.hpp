@@ -5,8 +5,9 @@
 ///
 /// Controller::step has one path for every mode: detect, act on the detection through the
 /// strategy, compute u, let the strategy follow the phase, run the adaptation law. A new
-/// strategy is a new class behind this interface (paper_preadaptation.hpp: rac, pa, pa_learn,
-/// pa_learn_exact; robust_preadaptation.hpp: pa_robust; oracle_preadaptation.hpp: oracle).
+/// strategy is a new folder with a class behind this interface (paper/paper_preadaptation.hpp:
+/// rac, pa, pa_learn, pa_learn_exact; oracle/oracle_preadaptation.hpp: oracle;
+/// core/robust/robust_preadaptation.hpp: pa_robust).
 
 #include <memory>
 #include <optional>

@@ -13,7 +13,7 @@
 #include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/event.hpp"
 #include "preadaptive_mrac/core/control/input_guard.hpp"
-#include "preadaptive_mrac/core/control/mrac_law.hpp"
+#include "preadaptive_mrac/core/control/mrac/mrac_law.hpp"
 #include "preadaptive_mrac/core/control/network.hpp"
 #include "preadaptive_mrac/core/control/preadaptation.hpp"
 #include "preadaptive_mrac/core/control/velocity_estimator.hpp"

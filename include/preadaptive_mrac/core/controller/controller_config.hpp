@@ -10,7 +10,7 @@
 #include <string>
 
 #include "preadaptive_mrac/core/control/design_model.hpp"
-#include "preadaptive_mrac/core/control/l1_config.hpp"
+#include "preadaptive_mrac/core/control/l1/l1_config.hpp"
 #include "preadaptive_mrac/core/robust/robust_config.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 #include "preadaptive_mrac/params/controller_params.hpp"

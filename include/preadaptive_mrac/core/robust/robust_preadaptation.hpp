@@ -17,9 +17,10 @@
 /// fit and concurrent learning, which then aim at the loop's fixed point (docs/research/robust.md).
 ///
 /// The parts: the data (identification_window.hpp, chunk_sums.hpp), the loss estimate
-/// (loss_estimate.hpp), the remembered regimes (regime_memory.hpp) and the decision
-/// (regime_decision.hpp, a pure function); this class schedules them: detection, the onset,
-/// the decisions while verifying, and the regime's concurrent learning.
+/// (loss_estimate.hpp), the remembered regimes (regime_memory.hpp), the detection
+/// (switch_detection.hpp) and the decision (regime_decision.hpp), both pure functions; this class
+/// keeps their state and schedules them: detection, the onset, the decisions while verifying,
+/// and the regime's concurrent learning.
 
 #include <cstdint>
 #include <utility>
@@ -32,6 +33,7 @@
 #include "preadaptive_mrac/core/robust/identification_window.hpp"
 #include "preadaptive_mrac/core/robust/loss_estimate.hpp"
 #include "preadaptive_mrac/core/robust/regime_memory.hpp"
+#include "preadaptive_mrac/core/robust/switch_detection.hpp"
 #include "preadaptive_mrac/params/controller_params.hpp"
 #include "preadaptive_mrac/params/robust_params.hpp"
 
@@ -66,21 +68,26 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// `excitation_time` > 0 only for that long after the last onset, else 0.
   double excitation(double t) const override;
   /// \brief `error_feedback`: the gain of -k e^T P B on the adaptive term.
-  double errorFeedback() const override { return rc_.error_feedback; }
+  double errorFeedback() const override { return robust_.error_feedback; }
 
   /// \brief The loss of effectiveness nu = 1 - Lambda identified over the current regime so far
   /// and its information (1 / variance); (0, 0) before enough data.
   std::pair<double, double> lossFit() const;
   /// \brief Mean residual of theta_hat over the last detection window [rad].
-  double residual() const { return rho_; }
+  double residual() const { return residual_; }
   /// \brief Current trigger threshold max(threshold, noise_factor * noise) [rad].
   double triggerThreshold() const;
   /// \brief Estimated standard deviation of the residual from noise alone [rad].
-  double noiseLevel() const { return dev_ / 1.1283791670955126; }
+  double noiseLevel() const { return noise_.level(); }
 
  private:
   /// \brief For n = 3: phi = dt x_mid and the input-equivalent residual d of the last step.
   void residualSample3(const Vec& x, double u_prev, double r_prev, Vec* phi, Vec* d) const;
+  /// \brief Store the identification pair of the step that ends at sample `s` (with the
+  /// estimate it was flown with) and its loss-fit sample.
+  void addSample(const Sample& s, const Vec& theta_hat);
+  /// \brief The detection's settings from robust_ and the window lengths.
+  DetectionSettings detectionSettings() const;
   /// \brief Gather the post-change data and the candidates, decide (regime_decision.hpp) and
   /// apply the result.
   void decide(Vec* theta_hat, Event* ev);
@@ -95,36 +102,36 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// \brief Noise standard deviation of one chunk sum [rad s].
   double chunkSigma() const;
   RegimeMemory memory();
-  /// Window lengths in samples and the ring's capacity from rc_.
+  /// Window lengths in samples and the ring's capacity from robust_.
   void sizeWindows();
 
-  RobustParams rc_;
+  RobustParams robust_;
   Vec K_;
   bool projection_;
   double theta_max_, dt_;
   Mat A_;
   Vec B_, B1r_;
-  double bb_;
+  double b_norm2_;  ///< B^T B
   PreadaptNetwork* net_;
-  int Ld_, Lc_, Lv_, Lq_, Ls_, Ll_, cap_;
-  int Lw_ = 0;                // min_dwell in samples: no onset sooner after the last one
-  IdentificationWindow win_;  // the data: ring and long-window sums
-  double rho_long_ = 0.0;
-  bool long_trigger_ = false;
+  // controller.robust's times in samples: detect_window, chunk, verify_time, quiet_time,
+  // settle_time, long_window (0: none), min_dwell; and the ring's capacity.
+  int detect_samples_ = 1, chunk_samples_ = 1, verify_samples_ = 1, quiet_samples_ = 1;
+  int settle_samples_ = 1, long_samples_ = 0, dwell_samples_ = 0, ring_capacity_ = 0;
+  IdentificationWindow window_;  // the data: ring and long-window sums
+  double long_residual_ = 0.0;   ///< over the long window when it was last due [rad]
+  bool long_trigger_ = false;    ///< the last onset came from the long window
   std::int64_t k_ = 0;
   bool have_prev_ = false;
   Vec x_prev_;
   // Detection.
-  double rho_ = 0.0, dev_ = 0.0;
-  bool dev_init_ = false;
-  int noise_blocks_ = 0;
-  static constexpr int kMinNoiseBlocks = 16;
+  double residual_ = 0.0;  ///< over the last detection window [rad]
+  NoiseEstimate noise_;
   std::int64_t last_trigger_k_ = -1000000000;
   // Phase.
   bool verifying_ = false;
   bool first_move_ = false;  ///< no decision since the onset has moved theta_hat yet
   std::int64_t post_start_k_ = 0, verify_end_k_ = 0, next_decision_k_ = 0, regime_start_k_ = 0;
-  int quiet_ = 0;
+  int quiet_count_ = 0;
   Vec theta_keep_, theta_net_;
   NetInput z_onset_ = NetInput::Zero();
   // The regime since the last decision: its chunk sums (with the loss regressor's) and the

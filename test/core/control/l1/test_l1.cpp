@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "preadaptive_mrac/core/control/l1_law.hpp"
+#include "preadaptive_mrac/core/control/l1/l1_law.hpp"
 #include "preadaptive_mrac/core/controller/mode_registry.hpp"
 #include "preadaptive_mrac/core/schema/params.hpp"
 #include "test_helpers.hpp"

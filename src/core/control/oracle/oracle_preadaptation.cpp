@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/oracle_preadaptation.hpp"
+#include "preadaptive_mrac/core/control/oracle/oracle_preadaptation.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/mrac_law.hpp"
+#include "preadaptive_mrac/core/control/mrac/mrac_law.hpp"
 
 #include <algorithm>
 

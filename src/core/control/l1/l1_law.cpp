@@ -1,10 +1,11 @@
-#include "preadaptive_mrac/core/control/l1_law.hpp"
+#include "preadaptive_mrac/core/control/l1/l1_law.hpp"
 
 #include <cmath>
 
 #include "preadaptive_mrac/core/control/design_model.hpp"
 #include "preadaptive_mrac/core/control/mode_context.hpp"
 #include "preadaptive_mrac/core/small_ops.hpp"
+#include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/params/controller_params.hpp"
 
 namespace preadaptive_mrac {
@@ -36,9 +37,7 @@ double l1NormOfG(const Eigen::MatrixXd& Ar, const Eigen::VectorXd& B, double ome
   F.topLeftCorner(n, n) = Ar;
   F.topRightCorner(n, 1) = -omega * B;
   F(n, n) = -omega;
-  const Eigen::MatrixXd M = F * h, M2 = M * M, M3 = M2 * M, M4 = M3 * M;
-  const Eigen::MatrixXd Phi =
-      Eigen::MatrixXd::Identity(n + 1, n + 1) + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
+  const Eigen::MatrixXd Phi = rk4Hold(F, h).Phi;  // free: no input
   Eigen::VectorXd s(n + 1), next(n + 1);
   s << B, 1.0;
   Eigen::VectorXd integral = Eigen::VectorXd::Zero(n);
@@ -62,15 +61,12 @@ L1Law::L1Law(const ControllerDesign& design, const Vec& B, const Vec& b_ref, dou
     : cfg_(cfg), dt_(dt), k0_(k0), filter_(cfg.bandwidth, dt) {
   const int n = static_cast<int>(B.size());
   PB_ = design.P * B;
-  // Classic RK4 of xh' = A_r xh + w with w held over the sample: these polynomials, as the
-  // controller's reference model (so predictor and reference model are discretised alike).
-  const Eigen::MatrixXd M = design.Ar * dt;
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-  const Eigen::MatrixXd M2 = M * M, M3 = M2 * M, M4 = M3 * M;
-  Phi_ = I + M + M2 / 2.0 + M3 / 6.0 + M4 / 24.0;
-  const Eigen::MatrixXd G = dt * (I + M / 2.0 + M2 / 6.0 + M3 / 24.0);
-  Gam_b_ = G * Eigen::VectorXd(B);
-  Gam_r_ = G * Eigen::VectorXd(b_ref);
+  // The predictor xh' = A_r xh + w, RK4 with w held over the sample, as the controller's
+  // reference model (so predictor and reference model are discretised alike).
+  const Rk4Hold hold = rk4Hold(design.Ar, dt);
+  Phi_ = hold.Phi;
+  Gam_b_ = hold.G * Eigen::VectorXd(B);
+  Gam_r_ = hold.G * Eigen::VectorXd(b_ref);
   x_hat0_ = x0;
   theta_hat0_ = theta_hat0;
   clampInto(&theta_hat0_, cfg_.theta_max);

@@ -6,8 +6,8 @@
 
 #include "preadaptive_mrac/core/control/event.hpp"
 #include "preadaptive_mrac/core/control/network.hpp"
+#include "preadaptive_mrac/core/control/paper/sensitivity_tracker.hpp"
 #include "preadaptive_mrac/core/control/preadaptation.hpp"
-#include "preadaptive_mrac/core/control/sensitivity_tracker.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/params/controller_params.hpp"
 

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/paper_preadaptation.hpp"
+#include "preadaptive_mrac/core/control/paper/paper_preadaptation.hpp"
 
 #include <cmath>
 

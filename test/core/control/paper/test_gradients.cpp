@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "preadaptive_mrac/core/closed_loop.hpp"
-#include "preadaptive_mrac/core/control/sensitivity_tracker.hpp"
+#include "preadaptive_mrac/core/control/paper/sensitivity_tracker.hpp"
 #include "test_helpers.hpp"
 
 using namespace preadaptive_mrac;

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/l1_config.hpp"
+#include "preadaptive_mrac/core/control/l1/l1_config.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "preadaptive_mrac/core/control/sensitivity_tracker.hpp"
+#include "preadaptive_mrac/core/control/paper/sensitivity_tracker.hpp"
 
 #include <cmath>
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "preadaptive_mrac/core/control/adaptive_law.hpp"
-#include "preadaptive_mrac/core/control/l1_config.hpp"
+#include "preadaptive_mrac/core/control/l1/l1_config.hpp"
 #include "preadaptive_mrac/core/solvers.hpp"
 #include "preadaptive_mrac/core/types.hpp"
 
