@@ -147,7 +147,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double nu_regime_ = 0.0, nu_decided_ = 0.0;
   LossEstimate loss_;
   double t_prev_ = 0.0;
-  double excite_until_ = 0.0;  ///< the excitation runs before this time (excitation_time > 0)
+  double excite_until_ = 0.0;    ///< the excitation runs before this time (excitation_time > 0)
   double feedback_until_ = 0.0;  ///< the error feedback acts on s itself before this time
   double s_slow_ = 0.0;          ///< e^T P B low-passed (steady_filter)
   int recalled_ = -1;
