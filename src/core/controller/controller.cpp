@@ -247,8 +247,8 @@ StepOutput Controller::step(const StepInput& in) {
   // left returns sooner. On the error against the reference model itself, hedged or not: a
   // proportional term holds no state to wind up, and the rate limit's share of a transient is
   // error it should act on.
-  const double k_ef = strategy_->errorFeedback();
-  if (k_ef != 0.0) out.u_adaptive -= k_ef * dotOf(ev_, PB_);
+  if (strategy_->hasErrorFeedback())
+    out.u_adaptive -= strategy_->errorFeedback(in.t, dotOf(ev_, PB_));
   out.u_unsaturated = out.u_baseline + out.u_adaptive;
   // The command the actuator can follow; the plant applies the same limits.
   out.u = limits_.apply(out.u_unsaturated, u_prev_, dt_);

@@ -101,6 +101,8 @@ void RobustPreadaptation::reset() {
   t_prev_ = 0.0;
   // The regime flown from the start is identified as one after an onset.
   excite_until_ = robust_.excitation_time;
+  feedback_until_ = robust_.feedback_time;
+  s_slow_ = 0.0;
 }
 
 RegimeMemory RobustPreadaptation::memory() {
@@ -252,6 +254,7 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
 
   // Probe the elevator while this regime is identified, not in the steady flight after it.
   if (robust_.excitation_time > 0.0) excite_until_ = s.t + robust_.excitation_time;
+  if (robust_.feedback_time > 0.0) feedback_until_ = s.t + robust_.feedback_time;
   z_onset_ << s.e, std::abs(s.e_dot);
   if (robust_.use_network) net_->forward(z_onset_, &theta_net_);
   last_trigger_k_ = k_;
@@ -412,6 +415,16 @@ double RobustPreadaptation::entryLoss(const RegimeEntry& e) const {
 
 std::int64_t RobustPreadaptation::excitationHalf(double t) const {
   return static_cast<std::int64_t>(std::floor(2.0 * t / robust_.excitation_period + 1e-9));
+}
+
+double RobustPreadaptation::errorFeedback(double t, double s) {
+  if (robust_.feedback_time <= 0.0) return robust_.error_feedback * s;
+  // In the transient a switch leaves, the feedback acts on the error as it is (the faster it
+  // acts, the sooner the error returns). In steady flight the measured error is mostly sensor
+  // noise, white at the sample rate, while what a quiet switch leaves is slow: the feedback
+  // then acts on the low-passed error, and the elevator does not answer the noise.
+  s_slow_ += dt_ / (robust_.steady_filter + dt_) * (s - s_slow_);
+  return robust_.error_feedback * (t < feedback_until_ ? s : s_slow_);
 }
 
 double RobustPreadaptation::excitation(double t) const {

@@ -102,9 +102,16 @@ class PreadaptationStrategy {
     (void)t;
     return 0.0;
   }
-  /// \brief Gain k of an error feedback -k e^T P B added to the adaptive term (0: none; only
-  /// pa_robust has one, the paper's modes are unchanged).
-  virtual double errorFeedback() const { return 0.0; }
+  /// \brief Whether the strategy has an error feedback (only pa_robust; the paper's modes have
+  /// none and are unchanged).
+  virtual bool hasErrorFeedback() const { return false; }
+  /// \brief The error feedback's command k s at time t for s = e^T P B, subtracted from the
+  /// adaptive term; called once a sample.
+  virtual double errorFeedback(double t, double s) {
+    (void)t;
+    (void)s;
+    return 0.0;
+  }
   /// \brief Start a phase with theta_hat already set (an external trigger, Controller::startPhase).
   virtual void startExternalPhase() {}
 };

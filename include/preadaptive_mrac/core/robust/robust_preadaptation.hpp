@@ -68,7 +68,10 @@ class RobustPreadaptation : public PreadaptationStrategy {
   /// `excitation_time` > 0 only for that long after the last onset, else 0.
   double excitation(double t) const override;
   /// \brief `error_feedback`: the gain of -k e^T P B on the adaptive term.
-  double errorFeedback() const override { return robust_.error_feedback; }
+  bool hasErrorFeedback() const override { return robust_.error_feedback != 0.0; }
+  /// With `feedback_time` > 0, only that long after the last onset on s itself; in the steady
+  /// flight after, on s low-passed with the time constant `steady_filter`.
+  double errorFeedback(double t, double s) override;
 
   /// \brief The loss of effectiveness nu = 1 - Lambda identified over the current regime so far
   /// and its information (1 / variance); (0, 0) before enough data.
@@ -144,7 +147,9 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double nu_regime_ = 0.0, nu_decided_ = 0.0;
   LossEstimate loss_;
   double t_prev_ = 0.0;
-  double excite_until_ = 0.0;  ///< the excitation runs before this time (excitation_time > 0)
+  double excite_until_ = 0.0;    ///< the excitation runs before this time (excitation_time > 0)
+  double feedback_until_ = 0.0;  ///< the error feedback acts on s itself before this time
+  double s_slow_ = 0.0;          ///< e^T P B low-passed (steady_filter)
   int recalled_ = -1;
   double phase_cost_ = 0.0;
 };
