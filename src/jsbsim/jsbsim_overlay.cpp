@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "preadaptive_mrac/jsbsim/jsbsim_paths.hpp"
@@ -92,9 +93,14 @@ struct Component {
   const XmlElement* e = nullptr;
   const XmlElement* section = nullptr;  ///< the <flight_control>, <system> or <autopilot>
   Doc* doc = nullptr;
-  std::vector<std::string> inputs;                ///< as written ('-' for a negated input)
-  std::vector<const XmlElement*> input_elements;  ///< the <input> elements, in the same order
+  std::vector<const XmlElement*> inputs;  ///< the <input> elements
 };
+
+/// An <input>'s property and whether it is negated (written '-property'; the text is trimmed).
+std::pair<std::string, bool> inputRef(const XmlElement& in) {
+  const bool negated = !in.text.empty() && in.text[0] == '-';
+  return {trimmed(negated ? in.text.substr(1) : in.text), negated};
+}
 
 std::string describe(const Component& c) {
   return "<" + c.e->name + "> '" + c.e->attribute("name") + "'";
@@ -130,11 +136,10 @@ class Fcs {
     if (property == kCommand) return 1.0;
     const Component* c = writer(property);
     if (c == nullptr || depth > kMaxDepth) return std::nullopt;
-    for (const std::string& raw : c->inputs) {
-      const bool negated = !raw.empty() && raw[0] == '-';
-      const std::string in = trimmed(negated ? raw.substr(1) : raw);
+    for (const XmlElement* in : c->inputs) {
+      const auto [in_property, negated] = inputRef(*in);
       std::vector<const Component*> sub;
-      const std::optional<double> g = gainFrom(in, depth + 1, &sub, blocked);
+      const std::optional<double> g = gainFrom(in_property, depth + 1, &sub, blocked);
       if (!g) continue;
       const std::optional<double> own = localGain(*c);
       if (!own) {
@@ -218,10 +223,7 @@ class Fcs {
         c.e = e.get();
         c.section = &s;
         c.doc = doc;
-        for (const XmlElement* in : e->childrenNamed("input")) {
-          c.inputs.push_back(in->text);
-          c.input_elements.push_back(in);
-        }
+        c.inputs = e->childrenNamed("input");
         writers_[componentProperty(e->attribute("name"))] = c;
         all_.push_back(c);
         for (const XmlElement* out : e->childrenNamed("output")) writers_[trimmed(out->text)] = c;
@@ -484,10 +486,8 @@ void planSpeedHold(Fcs* fcs, const std::string& aircraft) {
     const std::string cmd = "fcs/throttle-cmd-norm[" + std::to_string(i) + "]";
     bool read = false;
     for (const Component& c : fcs->components()) {
-      for (const XmlElement* in : c.input_elements) {
-        const std::string t = trimmed(in->text);
-        const bool negated = !t.empty() && t[0] == '-';
-        const std::string name = trimmed(negated ? t.substr(1) : t);
+      for (const XmlElement* in : c.inputs) {
+        const auto [name, negated] = inputRef(*in);
         if (name != cmd && !(i == 0 && name == "fcs/throttle-cmd-norm")) continue;
         const fs::path rel = fs::relative(c.doc->path, folder);
         if (rel.empty() || rel.native().rfind("..", 0) == 0)
