@@ -42,6 +42,7 @@ LAUNCH_ARGS=${PMRAC_LAUNCH_ARGS:-}
 LAUNCH=${PMRAC_LAUNCH:-preadaptive_mrac scenario.launch}
 NS=
 
+ARGV=("$@")
 while [ $# -gt 0 ]; do
   case "$1" in
     --mode) MODE=$2; shift 2 ;;
@@ -111,6 +112,12 @@ start_bg() {  # start_bg LOGFILE CMD...: run in the background in a new process 
   BG_PID=$!
   disown "$BG_PID"   # no job-control chatter ("Aborted") when it is stopped
   PIDS+=("$BG_PID")
+}
+rviz_pids() {  # rviz processes of this run (launch mode: rviz carries __log:=$WORK/log/...)
+  local p
+  for p in $(leftovers); do
+    tr '\0' ' ' 2>/dev/null <"/proc/$p/cmdline" | grep -Eq '(^|/)rviz ' && echo "$p"
+  done
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM
@@ -219,7 +226,8 @@ if [ "$MODE" = interim ]; then
     fail_now "rviz exited early (see $WORK/rviz.log)"
   fi
 else
-  if "$PY" -c 'import rosgraph, sys; n = rosgraph.Master("/t").getSystemState(); sys.exit(0 if any("rviz" in x for _, ns in n[1] for x in ns) else 1)' 2>/dev/null; then
+  # The process itself, not its registration at the master (a crashed node stays registered).
+  if rviz_pids | grep -q .; then
     echo "PASS: rviz is running after ${SETTLE} s" | tee -a "$CHECKS"
   else
     fail_now "rviz is not running after ${SETTLE} s (see $WORK/roslaunch.log and $ROS_LOG_DIR)"
@@ -238,6 +246,20 @@ fi
 
 NPASS=$(grep -c '^PASS:' "$CHECKS")
 NFAIL=$(grep -c '^FAIL:' "$CHECKS")
+# rviz itself killed by a signal (llvmpipe under Xvfb aborts now and then at start, in rviz or
+# Mesa, not in this package's config): show its output, then run the whole test once more.
+# A second crash, or any failure of another kind, fails the test.
+CRASH=$(grep -ho 'rviz[^ ]*\] process has died \[pid [0-9]*, exit code -[0-9]*' \
+  "$WORK/roslaunch.log" "$ROS_LOG_DIR"/*/roslaunch-*.log 2>/dev/null | head -n1)
+if [ "$NFAIL" != 0 ] && [ -n "$CRASH" ] && [ -z "${PMRAC_RVIZ_RETRIED:-}" ] && [ $BROKEN = 0 ]; then
+  echo "NOTE: rviz died (${CRASH##*, }); its own output (last 15 lines):"
+  find "$ROS_LOG_DIR" -name '*rviz*stdout*.log' -exec tail -n 15 {} + 2>/dev/null | sed 's/^/  | /'
+  echo "NOTE: rviz was killed by a signal, not failed by a check: the test runs once more"
+  cleanup
+  trap - EXIT
+  export PMRAC_RVIZ_RETRIED=1
+  exec bash "$0" "${ARGV[@]}"
+fi
 echo "screenshot: $SHOT"
 echo "logs: $WORK"
 if [ "$NFAIL" = 0 ] && [ "$NPASS" -gt 0 ]; then
