@@ -20,6 +20,11 @@ macro(pmrac_library name)
   add_dependencies(${name}_objects pmrac_params_headers)
 endmacro()
 
+# The laws and strategies, each in its folder below src/core/control/: found, not listed, so a
+# new part is its folder only (docs/design.md "A new adaptive law"); CONFIGURE_DEPENDS makes
+# the build notice a new file. After the rest of the core, so that in a program linked
+# statically the built-in parts (mode_registry.cpp) register first.
+file(GLOB PMRAC_CONTROL_PARTS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/core/control/*/*.cpp)
 # The core: Eigen + STL only. Nothing here may include a ROS header.
 pmrac_library(preadaptive_mrac_core
   src/core/schema/params.cpp
@@ -39,14 +44,9 @@ pmrac_library(preadaptive_mrac_core
   src/core/control/velocity_estimator.cpp
   src/core/control/attention.cpp
   src/core/control/attention_thresholds.cpp
-  src/core/control/paper/sensitivity_tracker.cpp
-  src/core/control/mrac/mrac_law.cpp
+  src/core/control/part_registry.cpp
   src/core/controller/mode_registry.cpp
   src/core/controller/controller.cpp
-  src/core/control/l1/l1_config.cpp
-  src/core/control/l1/l1_law.cpp
-  src/core/control/paper/paper_preadaptation.cpp
-  src/core/control/oracle/oracle_preadaptation.cpp
   src/core/robust/identification_window.cpp
   src/core/robust/robust_preadaptation.cpp
   src/core/robust/regime_memory.cpp
@@ -59,7 +59,8 @@ pmrac_library(preadaptive_mrac_core
   src/core/margins.cpp
   src/core/sim/scenario_family.cpp
   src/core/control/input_guard.cpp
-  src/core/controller/tunables.cpp)
+  src/core/controller/tunables.cpp
+  ${PMRAC_CONTROL_PARTS})
 
 # The JSBSim engine (process, socket, plant, linearisation): POSIX + STL on top of the core. It
 # registers itself with the core's engine registry (plant_engine.hpp) from a static initialiser,
@@ -77,10 +78,12 @@ pmrac_library(preadaptive_mrac_jsbsim
 target_link_libraries(preadaptive_mrac_jsbsim PUBLIC preadaptive_mrac_core)
 target_link_libraries(preadaptive_mrac_jsbsim_static PUBLIC preadaptive_mrac_core_static)
 # The plant engines beside the linear model, for `target`: STATIC (a batch tool linked
-# against the static archives) or SHARED.
+# against the static archives) or SHARED. STATIC takes the core's objects too, all of them: a
+# law or strategy in its folder registers itself from a static initialiser that nothing
+# references, which the core's archive would leave out.
 macro(pmrac_link_engines target kind)
   if("${kind}" STREQUAL "STATIC")
-    target_link_libraries(${target} preadaptive_mrac_jsbsim_objects)
+    target_link_libraries(${target} preadaptive_mrac_core_objects preadaptive_mrac_jsbsim_objects)
   else()
     target_link_libraries(${target} PUBLIC -Wl,--push-state,--no-as-needed preadaptive_mrac_jsbsim
                           -Wl,--pop-state)

@@ -85,7 +85,7 @@ def header_text():
         'namespace preadaptive_mrac {\n'
         'namespace params {\n\n'
         '/// \\brief One row of params/modes.yaml: a mode is an adaptive law and a preadaptation\n'
-        '/// strategy, named as src/core/controller/mode_registry.cpp registers them.\n'
+        '/// strategy, by the names they are registered under (core/control/part_registry.hpp).\n'
         'struct ModeRow {\n'
         '  const char* name;      ///< what `controller.mode` and --mode take\n'
         '  const char* doc;       ///< one line: what the mode does\n'

@@ -308,7 +308,7 @@ TEST(Config, NonScalarMapKeysAreAFileErrorNotACrash) {
 // registry keeps the table's order, and a row's `truth` says what its strategy does (the launch
 // files count plant/truth's subscribers from it: a wrong flag would stall a lockstep run).
 TEST(ModeRegistry, EveryTableRowIsARegisteredLawAndStrategy) {
-  const std::vector<ModeEntry>& modes = modeRegistry();
+  const std::deque<ModeEntry>& modes = modeRegistry();
   ASSERT_EQ(modes.size(), std::size(params::kModeRows));
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const ModeEntry& m = modes[i];

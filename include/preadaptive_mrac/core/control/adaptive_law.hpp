@@ -3,14 +3,10 @@
 /// \brief The adaptive-law seam: what the controller asks of an adaptive law (MRAC today,
 /// mrac/mrac_law.hpp). A law owns its estimate theta_hat, its control term u_ad and its update.
 ///
-/// Adding a law (docs/design.md, "Adding a part"):
-///   1. a class implementing AdaptiveLaw in core/<name>_law.{hpp,cpp}, with its own config
-///      section read and validated by itself;
-///   2. a factory `std::unique_ptr<AdaptiveLaw> make<Name>Law(const ModeContext&)`;
-///   3. one row in kModes of src/core/controller/mode_registry.cpp naming the mode, the law's
-///   factory and
-///      the strategy's factory. The mode's name then reaches the CLI, sweeps, families, nodes,
-///      validation messages and the Python package (mode_registry.hpp).
+/// Adding a law (docs/design.md, "A new adaptive law"): a folder core/control/<law>/ with a
+/// class implementing AdaptiveLaw, its factory `std::unique_ptr<AdaptiveLaw>
+/// make<Law>Law(const ModeContext&)` and, in its .cpp, the line that registers it by name
+/// (registerLaw, controller/mode_registry.hpp); a mode names it in params/modes.yaml.
 /// The controller keeps the baseline -K x, the reference model, the velocity estimator, the
 /// attention and the actuator limits; the law sees x_k, e_v = x_k - x_r and r_k.
 

@@ -7,50 +7,44 @@
 /// the Python package (preadaptive_mrac.modes), the launch files (scripts/lib/mode_info) and the
 /// docs read the same table.
 ///
-/// A new mode is one row of params/modes.yaml naming a registered law and strategy; a new law
-/// (adaptive_law.hpp) or strategy (preadaptation.hpp) is one row of lawRegistry() or
-/// strategyRegistry() in src/core/controller/mode_registry.cpp.
+/// A mode users see is one row of params/modes.yaml naming a registered law and strategy
+/// (control/part_registry.hpp: the built-in ones are registered here, a new one in its own
+/// folder with one line); a program may add a mode of registered parts with registerMode (a
+/// test does), listed after the table's.
 
-#include <memory>
+#include <deque>
 #include <string>
 #include <vector>
 
 #include "preadaptive_mrac/core/control/mode_context.hpp"
+#include "preadaptive_mrac/core/control/part_registry.hpp"
 
 namespace preadaptive_mrac {
 
-class AdaptiveLaw;
 class ParamReader;
-class PreadaptationStrategy;
 
 /// \brief One registered mode.
 struct ModeEntry {
   const char* name;  ///< what `controller.mode` and --mode take
   const char* doc;   ///< one line: what the mode does
-  std::unique_ptr<AdaptiveLaw> (*make_law)(const ModeContext&);
-  std::unique_ptr<PreadaptationStrategy> (*make_strategy)(const ModeContext&);
+  LawFactory make_law;
+  StrategyFactory make_strategy;
   bool truth;  ///< reads the simulation's true theta (params/modes.yaml `truth`)
 };
 
-/// \brief A registered adaptive law: the name params/modes.yaml's `law` gives it.
-struct LawEntry {
-  const char* name;
-  std::unique_ptr<AdaptiveLaw> (*make)(const ModeContext&);
-};
+/// \brief Add the mode `name` (with its one line of `doc`) of the registered law `law` and
+/// strategy `strategy`; `truth`: its strategy reads the simulation's true theta (its
+/// needsTruth()). Listed after params/modes.yaml's rows, in the order registered: --mode,
+/// --list-modes, `controller.mode` and the default --modes take it. Register it after its
+/// parts (below them in the same file: a file's static initialisers run in order). Returns
+/// true; throws std::logic_error naming `name` when it is empty or a mode of that name exists
+/// (in the table or registered), or naming the law or strategy that is not registered.
+bool registerMode(const std::string& name, const std::string& doc, const std::string& law,
+                  const std::string& strategy, bool truth);
 
-/// \brief A registered preadaptation strategy: the name params/modes.yaml's `strategy` gives it.
-struct StrategyEntry {
-  const char* name;
-  std::unique_ptr<PreadaptationStrategy> (*make)(const ModeContext&);
-};
-
-/// \brief Every registered adaptive law.
-const std::vector<LawEntry>& lawRegistry();
-/// \brief Every registered preadaptation strategy.
-const std::vector<StrategyEntry>& strategyRegistry();
-
-/// \brief Every registered mode, in the order of the docs and the default --modes.
-const std::vector<ModeEntry>& modeRegistry();
+/// \brief Every mode: params/modes.yaml's rows in the table's order, then the registered ones in
+/// theirs. A deque: a registration never moves the entries findMode handed out.
+const std::deque<ModeEntry>& modeRegistry();
 /// \brief The entry named `name`, or null.
 const ModeEntry* findMode(const std::string& name);
 /// \brief A problem naming `key` when `name` (given there) is no registered mode: the
