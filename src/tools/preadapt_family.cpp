@@ -37,7 +37,7 @@ const char* kAbout =
     "whose alpha and q rows of A and entries of B are each scaled by a factor uniform in [1 - M, "
     "1 + M] (drawn per scenario from the family seed, the rest of the family unchanged), while "
     "the controller designs on the nominal plant (controller.model); runs.jsonl records each "
-    "scenario's true A and B and the factors (docs/mismatch.md). --faults (plant.engine jsbsim "
+    "scenario's true A and B and the factors (docs/research/mismatch.md). --faults (plant.engine jsbsim "
     "only) gives each regime physical faults of the aircraft, drawn per regime from the family "
     "seed like --effectiveness LO:HI, the first segment nominal (docs/jsbsim.md). Every run flies "
     "the aircraft's elevator (by default an ordinary JSBSim aircraft's own, else --elevator "
