@@ -33,7 +33,7 @@ def load():
 ROWS = load()
 #: every mode, in the order of the docs and of preadapt_family's default --modes
 MODES = tuple(r['name'] for r in ROWS)
-#: the paper's modes (the reproduction: docs/reproduction.md)
+#: the paper's modes (the reproduction: docs/research/reproduction.md)
 PAPER_MODES = tuple(r['name'] for r in ROWS if r['paper'])
 #: the paper's modes that preadapt (all but its baseline, plain MRAC)
 PA_MODES = tuple(r['name'] for r in ROWS if r['paper'] and r['strategy'] != 'paper_rac')

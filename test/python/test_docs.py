@@ -151,7 +151,12 @@ class TestReadmeTables(unittest.TestCase):
 
 # The pages a user reads: the project's history (issue numbers, dated runs) goes to
 # docs/notebook.md, not here.
-USER_PAGES = ['README.md', 'docs/reproduction.md', 'docs/mismatch.md', 'docs/jsbsim.md']
+USER_PAGES = [
+    'README.md',
+    'docs/research/reproduction.md',
+    'docs/research/mismatch.md',
+    'docs/jsbsim.md',
+]
 USER_DIRS = ['docs/tutorials', 'docs/reference', 'docs/research']
 ISSUE_NUMBER = re.compile(r'\bissues?[\s_-]*#?\s*\d+|(?<![\w&/])#\d+\b', re.IGNORECASE)
 

@@ -1,5 +1,5 @@
 """Reproduction study of "Cognitive Preadaptation for Resilient Adaptive Control"
-(scripts/reproduction_study): runs the batch tools and writes docs/reproduction.md and its
+(scripts/reproduction_study): runs the batch tools and writes docs/research/reproduction.md and its
 figures.
 
 Modules: common (settings, grids, helpers), runner (the tools, caches), one module per section

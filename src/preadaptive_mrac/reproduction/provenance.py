@@ -15,6 +15,10 @@ class ProvenanceHeader:
     """The header block of the report."""
 
     # ================================================================ driver
+    def link_to(self, path):
+        """A repository file's path relative to the report, for a link in it."""
+        return os.path.relpath(os.path.join(ROOT, path), os.path.dirname(self.md_path))
+
     def dirty_text(self, files):
         """Uncommitted source changes at report time, and source files newer than the tools
         (whose changes cannot be in these results, committed or not)."""
@@ -123,7 +127,7 @@ class ProvenanceHeader:
             )
         lines.append(
             '\n**Settings.** Everything is config/controller/default.yaml and '
-            'config/plant/b747.yaml (the paper\'s values, docs/spec.md), seed = '
+            'config/plant/b747.yaml (the paper\'s values, [spec.md](%s)), seed = '
             '`controller.preadaptation.seed` (the network\'s random initial weights, uniform in '
             '[−init_scale, init_scale]). Two threshold settings are compared throughout: '
             '**paper** (c_e = 0.005 rad, c_ed = 0.02 rad/s) and **all-detect** (c_ed = %s rad/s, '
@@ -133,6 +137,6 @@ class ProvenanceHeader:
             'pa_learn = with learning, approximate gradient (the paper\'s); pa_learn_exact = with '
             'learning, exact gradient (uses the true θ). "Reduction" is always 100·(1 − '
             'peak/peak_rac) of the peak |e| = |α − α_ref| in the window after a switch: positive '
-            '= better than rac.\n' % ALT_CED
+            '= better than rac.\n' % (self.link_to('docs/spec.md'), ALT_CED)
         )
         return '\n'.join(lines) + '\n'

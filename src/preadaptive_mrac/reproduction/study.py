@@ -46,7 +46,7 @@ def main(description=None, argv=None):
         help='folder of preadapt_sweep and preadapt_sim (default %(default)s; '
         'relative to the package root)',
     )
-    ap.add_argument('--out', default='docs/reproduction.md')
+    ap.add_argument('--out', default='docs/research/reproduction.md')
     ap.add_argument('--fig-dir', default='docs/figures/reproduction')
     ap.add_argument('--only', default='', help='comma-separated sections: ' + ', '.join(SECTIONS))
     ap.add_argument('--seeds', type=int, default=40, help='seeds 1..N for the distributions')

@@ -2,7 +2,7 @@
 sensor noise -> table.md, ratios.png, timeseries.png. With --condition (repeatable: the
 preadapt_family flags of one plant condition, e.g. "--mismatch 0.3 --delay 0:0.04"): one family
 per condition at the first noise level, and table.md holds one row per condition and mode with
-the largest whole-run peak |e| of any run from runs.jsonl (docs/mismatch.md,
+the largest whole-run peak |e| of any run from runs.jsonl (docs/research/mismatch.md,
 docs/research/robust.md)."""
 
 import argparse
