@@ -36,7 +36,19 @@ EOF
 # CASES="compare nodelet" (comma-separated) runs some of them.
 cases=("scenario nodelet" "scenario process" "compare nodelet")
 [ -n "${CASES:-}" ] && IFS=, read -ra cases <<<"$CASES"
-for CASE in "${cases[@]}"; do
+# A realtime plant that stalled for seconds under load (docs/notebook.md, "A realtime plant that
+# stalled for 7 s under load"): the controller then says the plant has gone and ends the launch,
+# so the bag lacks the run's last states. That is not what this test checks: such a case is
+# said, with the plant's and the controller's lines, and run once more. A second stall fails.
+stalled() {  # stalled LOG: the controller ended the run on a plant silent for 2 s (nothing
+  # here stops the plant, so a silent plant is a stalled one)
+  grep -aq "the plant has gone" "$1"
+}
+declare -A retried=()
+i=0
+while [ "$i" -lt "${#cases[@]}" ]; do
+  CASE=${cases[$i]}
+  i=$((i + 1))
   read -r L SHAPE <<<"$CASE"
   NS=""
   [ "$L" = compare ] && NS=rac
@@ -79,6 +91,15 @@ for CASE in "${cases[@]}"; do
   # compare.launch records two runs; scenario.launch one (3000 steps).
   want=3000
   [ "$L" = compare ] && want=6000
+  if [ "$N" != "$want" ] && [ -z "${retried[$CASE]:-}" ] && stalled "$LOG"; then
+    echo "NOTE: $L $SHAPE: the plant stalled and the controller ended the run; once more:"
+    grep -aE "scenario complete|has gone" "$LOG" | sed 's/\x1b\[[0-9;]*m//g' | cut -c1-300 |
+      sed 's/^/    /'
+    retried[$CASE]=1
+    cases+=("$CASE")
+    rm -rf "$BAGS"
+    continue
+  fi
   check "$L $SHAPE: no stray message in the bag" [ "$S$C" = 00 ]
   check "$L $SHAPE: every state of the run in the bag ($N of $want)" [ "$N" = "$want" ]
   # Why not: the plant's closing line (its wall time, late ticks) and any node that ended early.
