@@ -47,6 +47,31 @@ void LockstepClock::progress(const RecorderProgress& msg) {
   std::lock_guard<std::mutex> lock(node_.mutex_);
   if (!have_progress_ || msg.step > recorded_step_) recorded_step_ = msg.step;
   have_progress_ = true;
+  if (msg.topic == node_.cmd_sub_.getTopic()) {
+    if (!have_cmd_progress_ || msg.step > recorded_cmd_step_) recorded_cmd_step_ = msg.step;
+    have_cmd_progress_ = true;
+  }
+}
+
+void LockstepClock::waitForRecordedCommands() {
+  PlantSimNode& n = node_;
+  const auto done = [&] {
+    std::lock_guard<std::mutex> lock(n.mutex_);
+    return !have_cmd_progress_ || !n.have_cmd_ || recorded_cmd_step_ >= n.cmd_step_;
+  };
+  const double deadline = wallNow() + n.params_.command_timeout;
+  while (n.ctx_.ok() && !done()) {
+    if (wallNow() > deadline) {
+      std::lock_guard<std::mutex> lock(n.mutex_);
+      ROS_WARN(
+          "the recorder has written command step %llu of %s, not yet the last one taken "
+          "(%llu), after %.3f s (~command_timeout); ending anyway",
+          static_cast<unsigned long long>(recorded_cmd_step_), n.cmd_sub_.getTopic().c_str(),
+          static_cast<unsigned long long>(n.cmd_step_), n.params_.command_timeout);
+      return;
+    }
+    n.queue_.callAvailable(ros::WallDuration(0.01));
+  }
 }
 
 void LockstepClock::published(std::uint64_t step, double wall) {
@@ -183,6 +208,7 @@ int LockstepClock::run() {
     n.finish(false);
     return kExitRuntimeError;
   }
+  if (n.sim_.done()) waitForRecordedCommands();
   n.finish(n.sim_.done());
   n.linger();
   return 0;

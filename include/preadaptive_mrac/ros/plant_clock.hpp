@@ -75,6 +75,10 @@ class LockstepClock : public PlantClock {
   /// \brief Back-pressure: wait (bounded by ~command_timeout) until the recorder has written
   /// state `step` - `lag`. False on timeout or shutdown.
   bool waitForRecorder(std::uint64_t step, std::uint64_t lag);
+  /// \brief At the run's end: wait (bounded by ~command_timeout, a warning then) until a
+  /// recorder that records the commands has written the last one this node took, so that the
+  /// launch it ends next does not cut that command off the bag.
+  void waitForRecordedCommands();
   /// \brief Wait for the answer to step k (re-sending its state); false on timeout (logged)
   /// or shutdown, *give_up set on timeout.
   bool awaitAnswer(std::uint64_t k, double* u, bool* give_up);
@@ -82,6 +86,8 @@ class LockstepClock : public PlantClock {
   ros::Publisher clock_pub_;  ///< ~publish_clock: clock (latched)
   bool have_progress_ = false;
   std::uint64_t recorded_step_ = 0;      ///< last state step the recorder has written
+  bool have_cmd_progress_ = false;       ///< the recorder reports the command topic too
+  std::uint64_t recorded_cmd_step_ = 0;  ///< last command step the recorder has written
   std::int64_t stale_cmds_ignored_ = 0;  ///< the controller's staleness-timer commands
   std::int64_t resent_ = 0, recorder_waits_ = 0;
   std::uint64_t published_step_ = 0;  ///< the last state published (the one awaited)
