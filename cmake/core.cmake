@@ -71,12 +71,22 @@ pmrac_library(preadaptive_mrac_jsbsim
   src/jsbsim/jsbsim_log.cpp
   src/jsbsim/jsbsim_paths.cpp
   src/jsbsim/jsbsim_process.cpp
+  src/jsbsim/jsbsim_lane.cpp
   src/jsbsim/jsbsim_plant.cpp
   src/jsbsim/jsbsim_linearise.cpp
   src/jsbsim/jsbsim_xml.cpp
   src/jsbsim/jsbsim_overlay.cpp)
 target_link_libraries(preadaptive_mrac_jsbsim PUBLIC preadaptive_mrac_core)
 target_link_libraries(preadaptive_mrac_jsbsim_static PUBLIC preadaptive_mrac_core_static)
+target_link_libraries(preadaptive_mrac_jsbsim_objects PUBLIC ${CMAKE_DL_LIBS})
+# Preloaded into JSBSim (not linked by anything): its socket bytes through shared memory
+# (src/jsbsim/preload). In the library folder, where jsbsim_lane.cpp looks for it.
+add_library(pmrac_jsbsim_lane SHARED src/jsbsim/preload/jsbsim_lane_preload.cpp)
+target_include_directories(pmrac_jsbsim_lane PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+target_link_libraries(pmrac_jsbsim_lane ${CMAKE_DL_LIBS})
+set_target_properties(pmrac_jsbsim_lane PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+add_dependencies(preadaptive_mrac_jsbsim_objects pmrac_jsbsim_lane)
 # The plant engines beside the linear model, for `target`: STATIC (a batch tool linked
 # against the static archives) or SHARED. STATIC takes the core's objects too, all of them: a
 # law or strategy in its folder registers itself from a static initialiser that nothing

@@ -16,7 +16,7 @@
 # plugin file names lib/libpreadaptive_mrac_nodelets) and the loopback shim (scripts/lib/ros_env).
 install(TARGETS preadaptive_mrac_core preadaptive_mrac_io preadaptive_mrac_jsbsim preadaptive_mrac_cli
                 preadaptive_mrac_ros_params preadaptive_mrac_ros preadaptive_mrac_nodelets
-                pmrac_loopback_bind
+                pmrac_loopback_bind pmrac_jsbsim_lane
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})

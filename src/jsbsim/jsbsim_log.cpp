@@ -197,4 +197,19 @@ bool jsbsimRefusedProperty(const std::string& reply) {
   return false;
 }
 
+std::string jsbsimLogTail(const std::string& log, size_t max_lines) {
+  std::vector<std::string> lines;
+  std::stringstream ss(log);
+  std::string line;
+  while (std::getline(ss, line)) {
+    // (JSBSim's banner and blank lines say nothing about the problem)
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    lines.push_back(line);
+  }
+  std::string out;
+  const size_t from = lines.size() > max_lines ? lines.size() - max_lines : 0;
+  for (size_t i = from; i < lines.size(); ++i) out += (out.empty() ? "" : " | ") + lines[i];
+  return out.empty() ? "(no output)" : out;
+}
+
 }  // namespace preadaptive_mrac

@@ -42,6 +42,7 @@ JsbsimLaunch launchOf(const JsbsimParams& p, double dt, const JsbsimOverlay& ove
   l.initialize = overlay.initialize();
   l.dt = dt;
   l.timeout = p.timeout;
+  l.shared_memory = p.shared_memory;
   l.outputs.assign(std::begin(kOutputs), std::end(kOutputs));
   return l;
 }

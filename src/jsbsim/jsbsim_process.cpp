@@ -142,11 +142,11 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   log_path_ = dir_ + "/jsbsim.log";
   FdCloser listener{-1};
   outputs_ = launch.outputs.size();
+  int out_port = 0;
   if (outputs_ > 0) {
     // JSBSim connects to this port when it reads the directive (as a client: the socket is
     // ours, so no other process can hold the port). rate 1000 Hz (JSBSim's largest) is every
     // model pass at dt >= 1 ms.
-    int out_port = 0;
     listener.fd = listenLoopback(&out_port);
     std::ofstream f(directives);
     f << "<?xml version=\"1.0\"?>\n<output name=\"localhost\" type=\"SOCKET\" protocol=\"TCP\" "
@@ -173,6 +173,14 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  lane_.reset();  // (a retry's: its file goes with it)
+  const std::string preload = launch.shared_memory ? findJsbsimLanePreload() : std::string();
+  if (!preload.empty()) lane_ = std::make_unique<JsbsimLane>(dir_ + "/lane");
+  std::vector<std::string> env =
+      JsbsimLane::childEnvironment(lane_.get(), preload, port_, out_port);
+  std::vector<char*> envp;
+  for (auto& e : env) envp.push_back(e.data());
+  envp.push_back(nullptr);
   int errpipe[2];
   if (::pipe2(errpipe, O_CLOEXEC) != 0)
     throw JsbsimError(std::string("JSBSim: pipe(): ") + std::strerror(errno));
@@ -200,7 +208,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
     if (errpipe[1] > 3) ::syscall(SYS_close_range, 3u, static_cast<unsigned>(errpipe[1] - 1), 0u);
     ::syscall(SYS_close_range, static_cast<unsigned>(errpipe[1] + 1), ~0u, 0u);
 #endif
-    ::execv(argv[0], argv.data());
+    ::execve(argv[0], argv.data(), envp.data());
     const int e = errno;
     ssize_t w = ::write(errpipe[1], &e, sizeof e);
     (void)w;
@@ -258,6 +266,9 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   }
   const int one = 1;
   ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  // The preload library attaches before JSBSim's main() (so before it listens): not attached
+  // now, it is not there (the bytes then come through the sockets).
+  if (lane_ && !lane_->attached()) lane_.reset();
   buf_.clear();
   readPrompts(1);
   if (replies_[0].find("Connected to JSBSim server") == std::string::npos)
@@ -399,7 +410,21 @@ void JsbsimProcess::readPrompts(size_t n) {
   buf_.erase(0, pos);
 }
 
+void JsbsimProcess::receiveLane(bool outputs, std::string* into) {
+  // In slices of 20 ms: a JSBSim that ended is seen within one (a socket sees it at once).
+  for (int waited_ms = 20, status = 0; !lane_->receive(outputs, into, 20); waited_ms += 20) {
+    if (waited_ms % kWatchMs != 0 && exited(&status, 0.0)) {
+      pid_ = -1;
+      failFor("ended while a reply was due", endedHow(status));
+    } else if (waited_ms % kWatchMs == 0) {
+      if (outputs) checkRefusals();
+      watchSilence(waited_ms);
+    }
+  }
+}
+
 void JsbsimProcess::receive(int fd, std::string* into) {
+  if (lane_ && (fd == fd_ || fd == out_fd_)) return receiveLane(fd == out_fd_, into);
   // (A read that spun on a non-blocking socket for the next chunk was slower on this loaded
   // 2-core machine: the spinning client takes the CPU from JSBSim.)
   char chunk[65536];
@@ -429,10 +454,14 @@ void JsbsimProcess::receive(int fd, std::string* into) {
 void JsbsimProcess::checkRefusals() {
   // The replies that have come so far (without waiting): a refused command drops the rest of
   // its packet, `iterate` with it, so the frame waited for would never come.
-  char chunk[65536];
-  ssize_t got;
-  while ((got = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT)) > 0)
-    buf_.append(chunk, static_cast<size_t>(got));
+  if (lane_) {
+    lane_->receive(false, &buf_, 0);
+  } else {
+    char chunk[65536];
+    ssize_t got;
+    while ((got = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT)) > 0)
+      buf_.append(chunk, static_cast<size_t>(got));
+  }
   for (size_t pos = 0, i; (i = buf_.find(kPrompt, pos)) != std::string::npos;
        pos = i + kPromptLen) {
     replies_.assign(1, buf_.substr(pos, i - pos));
@@ -470,6 +499,12 @@ const std::vector<double>& JsbsimProcess::readOutput() {
 
 void JsbsimProcess::sendAll(const char* data, size_t size) {
   if (fd_ < 0) throw JsbsimError("JSBSim: not connected (the process was stopped)");
+  if (lane_) {
+    int status = 0;
+    if (!lane_->send(data, size, [&] { return !exited(&status, 0.0); }))
+      failDead("stopped reading its commands");
+    return;
+  }
   size_t sent = 0;
   while (sent < size) {
     const ssize_t w = ::send(fd_, data + sent, size - sent, MSG_NOSIGNAL);
@@ -537,23 +572,11 @@ void JsbsimProcess::trim(const std::string& what) {
 }
 
 std::string JsbsimProcess::logTail(size_t max_lines) const {
-  if (log_path_.empty()) return "(no output)";
-  const std::string text = readFile(log_path_);
-  std::vector<std::string> lines;
-  std::stringstream ss(text);
-  std::string line;
-  while (std::getline(ss, line)) {
-    // (JSBSim's banner and blank lines say nothing about the problem)
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    lines.push_back(line);
-  }
-  std::string out;
-  const size_t from = lines.size() > max_lines ? lines.size() - max_lines : 0;
-  for (size_t i = from; i < lines.size(); ++i) out += (out.empty() ? "" : " | ") + lines[i];
-  return out.empty() ? "(no output)" : out;
+  return log_path_.empty() ? "(no output)" : jsbsimLogTail(readFile(log_path_), max_lines);
 }
 
 void JsbsimProcess::stop() {
+  lane_.reset();
   if (fd_ >= 0) {
     ::close(fd_);
     fd_ = -1;

@@ -97,6 +97,32 @@ TEST(Jsbsim, LockstepIsDeterministicAndHasThePapersSigns) {
   EXPECT_NEAR(c.state()[0], 0.5 - 0.1 * 0.1, 1e-8);
 }
 
+TEST(Jsbsim, SharedMemoryCarriesTheSocketsBytes) {
+  // The lane (plant.jsbsim.shared_memory, the default) and loopback TCP carry the same bytes:
+  // the same inputs give the same bits, through either.
+  RunConfig cfg = jsbsimConfig();
+  JsbsimPlant lane(cfg.plant.jsbsim, 0.001, 0.0);
+  cfg.plant.jsbsim.shared_memory = false;
+  JsbsimPlant tcp(cfg.plant.jsbsim, 0.001, 0.0);
+  EXPECT_TRUE(lane.process().sharedMemory());
+  EXPECT_FALSE(tcp.process().sharedMemory());
+  const Vec theta = Vec::Constant(3, 0.1);
+  for (int k = 0; k < 1500; ++k) {
+    const double de = 0.01 * std::sin(0.01 * k);
+    lane.step(0.001, theta, de, 0.05, k >= 700 ? 0.3 : 0.0);
+    tcp.step(0.001, theta, de, 0.05, k >= 700 ? 0.3 : 0.0);
+    ASSERT_EQ(lane.state(), tcp.state()) << "step " << k;
+    ASSERT_EQ(lane.flight().altitude, tcp.flight().altitude) << "step " << k;
+  }
+  // Without the preload library the sockets carry them, as with shared_memory false.
+  ::setenv("PMRAC_JSBSIM_LANE_PRELOAD", "/nonexistent/libpmrac_jsbsim_lane.so", 1);
+  cfg.plant.jsbsim.shared_memory = true;
+  JsbsimPlant fallback(cfg.plant.jsbsim, 0.001, 0.0);
+  ::unsetenv("PMRAC_JSBSIM_LANE_PRELOAD");
+  EXPECT_FALSE(fallback.process().sharedMemory());
+  fallback.step(0.001, theta, 0.01, 0.05, 0.0);
+}
+
 TEST(Jsbsim, ScenarioPlantRunsTheClosedLoopOnJsbsim) {
   RunConfig cfg = jsbsimConfig();
   cfg.plant.turbulence.enabled = true;
@@ -493,22 +519,29 @@ TEST(JsbsimFailure, FailedTrimEndsWithAnErrorAndNoProcess) {
 }
 
 TEST(JsbsimFailure, KilledMidRunEndsWithAnErrorAndNoProcess) {
-  const RunConfig cfg = jsbsimConfig();
-  pid_t pid = -1;
-  try {
-    ScenarioPlant sim(cfg.plant, cfg.scenario, 0.001);
-    auto* engine = dynamic_cast<JsbsimPlant*>(sim.engine());
-    ASSERT_NE(engine, nullptr);
-    pid = engine->process().pid();
-    for (int k = 0; k < 100; ++k) sim.advance(0.0);
-    ::kill(pid, SIGKILL);
-    for (int k = 0; k < 100; ++k) sim.advance(0.0);
-    FAIL() << "ran on after JSBSim was killed";
-  } catch (const JsbsimError& e) {
-    EXPECT_NE(std::string(e.what()).find("killed by signal 9"), std::string::npos) << e.what();
+  // Through the shared-memory lane and through the sockets.
+  for (const bool shared_memory : {true, false}) {
+    RunConfig cfg = jsbsimConfig();
+    cfg.plant.jsbsim.shared_memory = shared_memory;
+    pid_t pid = -1;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      ScenarioPlant sim(cfg.plant, cfg.scenario, 0.001);
+      auto* engine = dynamic_cast<JsbsimPlant*>(sim.engine());
+      ASSERT_NE(engine, nullptr);
+      EXPECT_EQ(engine->process().sharedMemory(), shared_memory);
+      pid = engine->process().pid();
+      for (int k = 0; k < 100; ++k) sim.advance(0.0);
+      ::kill(pid, SIGKILL);
+      for (int k = 0; k < 100; ++k) sim.advance(0.0);
+      FAIL() << "ran on after JSBSim was killed";
+    } catch (const JsbsimError& e) {
+      EXPECT_NE(std::string(e.what()).find("killed by signal 9"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+    EXPECT_FALSE(alive(pid));
+    EXPECT_TRUE(noChildLeft());
   }
-  EXPECT_FALSE(alive(pid));
-  EXPECT_TRUE(noChildLeft());
 }
 
 TEST(JsbsimFailure, DestructorEndsTheProcess) {

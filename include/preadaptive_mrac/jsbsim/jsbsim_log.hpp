@@ -5,6 +5,7 @@
 /// not load, or a property the package uses is missing, turned into a message that names the
 /// cause and the key to look at.
 
+#include <cstddef>
 #include <string>
 
 namespace preadaptive_mrac {
@@ -39,5 +40,9 @@ JsbsimFault diagnoseJsbsimLog(const std::string& log, const JsbsimNames& names);
 /// property", "No property argument supplied.", "Badly formed property query"): JSBSim then
 /// drops the rest of the packet, whose commands get no reply at all.
 bool jsbsimRefusedProperty(const std::string& reply);
+
+/// \brief The last `max_lines` lines of `log` that say something (JSBSim's banner and blank
+/// lines left out), joined by " | "; "(no output)" when there are none.
+std::string jsbsimLogTail(const std::string& log, size_t max_lines);
 
 }  // namespace preadaptive_mrac

@@ -7,11 +7,13 @@
 #include <sys/types.h>
 
 #include <chrono>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "preadaptive_mrac/core/sim/plant_engine.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_lane.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_log.hpp"
 #include "preadaptive_mrac/jsbsim/jsbsim_paths.hpp"
 
@@ -34,6 +36,9 @@ struct JsbsimLaunch {
   /// Properties JSBSim sends through its output socket, one line after every model pass that
   /// is not held (empty: no output socket). Read with JsbsimProcess::readOutput().
   std::vector<std::string> outputs;
+  /// The sockets' bytes through shared memory (jsbsim_lane.hpp) when the preload library is
+  /// found; false, or no library: loopback TCP. The bytes, and so the run, are the same.
+  bool shared_memory = true;
 };
 
 /// \brief One JSBSim process in socket lockstep, held between steps.
@@ -81,6 +86,8 @@ class JsbsimProcess {
   static double parseGet(const std::string& reply, const std::string& name);
 
   pid_t pid() const { return pid_; }
+  /// \brief The bytes travel through the shared-memory lane (else through loopback TCP).
+  bool sharedMemory() const { return lane_ != nullptr; }
   int port() const { return port_; }
   /// \brief The last lines of JSBSim's own output (for messages).
   std::string logTail(size_t max_lines = 8) const;
@@ -96,6 +103,8 @@ class JsbsimProcess {
   void checkRefusals();
   /// Receive what `fd` has into `into`, waiting (poll, with the watch every 200 ms) if nothing.
   void receive(int fd, std::string* into);
+  /// receive() through the lane: JSBSim's replies (`outputs` false) or output lines.
+  void receiveLane(bool outputs, std::string* into);
   void takeRefusal(bool rest_dropped);
   std::string logSince(size_t from) const;
   void startOnce(const JsbsimLaunch& launch, const std::string& exe, const std::string& root);
@@ -119,6 +128,7 @@ class JsbsimProcess {
   size_t outputs_ = 0;  ///< values per output line (JsbsimLaunch::outputs)
   std::string out_buf_;
   std::vector<double> out_values_;
+  std::unique_ptr<JsbsimLane> lane_;  ///< set once JSBSim's preload library has attached
 };
 
 }  // namespace preadaptive_mrac
