@@ -30,22 +30,33 @@ JsbsimLane::JsbsimLane(const std::string& path) : path_(path) {
   if (fd < 0)
     throw JsbsimError("JSBSim: cannot make the shared-memory lane " + path + ": " +
                       std::strerror(errno));
-  if (::ftruncate(fd, sizeof(lane::Shared)) != 0) {
-    const int e = errno;
+  // Its blocks taken now: on a full disk a write into a mapped hole would be a SIGBUS later.
+  if (const int e = ::posix_fallocate(fd, 0, sizeof(lane::Shared)); e != 0) {
     ::close(fd);
-    throw JsbsimError("JSBSim: cannot size the shared-memory lane " + path + ": " +
+    ::unlink(path.c_str());
+    throw JsbsimError("JSBSim: cannot make the shared-memory lane " + path + ": " +
                       std::strerror(e));
   }
   void* m = ::mmap(nullptr, sizeof(lane::Shared), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
   const int e = errno;
   ::close(fd);
-  if (m == MAP_FAILED)
+  if (m == MAP_FAILED) {
+    ::unlink(path.c_str());
     throw JsbsimError("JSBSim: cannot map the shared-memory lane " + path + ": " +
                       std::strerror(e));
+  }
   shared_ = new (m) lane::Shared;
   shared_->magic = lane::kMagic;
   shared_->version = lane::kVersion;
   shared_->attached.store(0);
+}
+
+std::unique_ptr<JsbsimLane> JsbsimLane::tryMake(const std::string& path) {
+  try {
+    return std::make_unique<JsbsimLane>(path);
+  } catch (const JsbsimError&) {
+    return nullptr;
+  }
 }
 
 JsbsimLane::~JsbsimLane() {
@@ -96,7 +107,7 @@ bool JsbsimLane::receive(bool outputs, std::string* into, int wait_ms) {
     const long now = lane::nowNs();
     if (now >= until) return false;
     if (now - start < kSpinNs)
-      lane::relax();
+      lane::relax(now - start);
     else
       lane::sleepOn(&r->seq, &r->sleeping, seen, until - now);
   }

@@ -175,7 +175,7 @@ void JsbsimProcess::startOnce(const JsbsimLaunch& launch, const std::string& exe
   argv.push_back(nullptr);
   lane_.reset();  // (a retry's: its file goes with it)
   const std::string preload = launch.shared_memory ? findJsbsimLanePreload() : std::string();
-  if (!preload.empty()) lane_ = std::make_unique<JsbsimLane>(dir_ + "/lane");
+  if (!preload.empty()) lane_ = JsbsimLane::tryMake(dir_ + "/lane");
   std::vector<std::string> env =
       JsbsimLane::childEnvironment(lane_.get(), preload, port_, out_port);
   std::vector<char*> envp;

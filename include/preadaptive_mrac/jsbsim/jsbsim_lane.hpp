@@ -5,6 +5,7 @@
 /// that wait the way a socket read would.
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@ class JsbsimLane {
  public:
   /// \brief Make the lane's file `path` (in a folder of this process's own) and map it.
   explicit JsbsimLane(const std::string& path);
+  /// \brief The lane, or null when its file cannot be made (a full disk: the sockets then).
+  static std::unique_ptr<JsbsimLane> tryMake(const std::string& path);
   ~JsbsimLane();
   JsbsimLane(const JsbsimLane&) = delete;
   JsbsimLane& operator=(const JsbsimLane&) = delete;

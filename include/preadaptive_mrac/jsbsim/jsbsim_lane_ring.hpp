@@ -10,6 +10,7 @@
 /// then sleeps on the ring's futex word; a writer wakes it only when it sleeps.
 
 #include <linux/futex.h>
+#include <sched.h>
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
@@ -78,8 +79,7 @@ inline std::size_t available(const Ring& r) {
 /// \brief Copy up to `n` bytes out of `r` (the reader's side); the number copied.
 inline std::size_t read(Ring* r, char* out, std::size_t n) {
   const std::uint64_t tail = r->tail.load(std::memory_order_relaxed);
-  const std::size_t have =
-      static_cast<std::size_t>(r->head.load(std::memory_order_acquire) - tail);
+  const std::size_t have = static_cast<std::size_t>(r->head.load(std::memory_order_acquire) - tail);
   const std::size_t take = have < n ? have : n;
   if (take == 0) return 0;
   const std::size_t at = static_cast<std::size_t>(tail % kRingBytes);
@@ -130,7 +130,15 @@ inline long nowNs() {
   return t.tv_sec * 1000000000L + t.tv_nsec;
 }
 
-inline void relax() {
+/// \brief One turn of a spin that has waited `spun_ns` so far: a pause, and after the first
+/// kYieldAfterNs a yield of the core. With more spinning threads than cores (two JSBSim runs
+/// on two cores) the one waited for may be queued behind the spinner on its core.
+constexpr long kYieldAfterNs = 20000;
+inline void relax(long spun_ns) {
+  if (spun_ns > kYieldAfterNs) {
+    ::sched_yield();
+    return;
+  }
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
 #endif

@@ -102,7 +102,7 @@ ssize_t laneRecv(void* buf, size_t n) {
       return static_cast<ssize_t>(late);
     }
   } else {
-    lane::relax();
+    lane::relax(now - g_empty_since);
   }
   errno = EAGAIN;
   return -1;
@@ -153,8 +153,7 @@ extern "C" ssize_t send(int fd, const void* buf, size_t n, int flags) {
 // is the lane's (laneRecv), so a sleep of nothing is skipped; any other sleep is kept.
 extern "C" int nanosleep(const timespec* req, timespec* rem) {
   static const auto fn = real<int (*)(const timespec*, timespec*)>("nanosleep");
-  if (g_lane != nullptr && g_in_fd >= 0 && req != nullptr && req->tv_sec == 0 &&
-      req->tv_nsec == 0)
+  if (g_lane != nullptr && g_in_fd >= 0 && req != nullptr && req->tv_sec == 0 && req->tv_nsec == 0)
     return 0;
   return fn(req, rem);
 }
