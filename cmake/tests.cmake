@@ -32,6 +32,8 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_jsbsim test/jsbsim/test_jsbsim.cpp)
   target_link_libraries(test_jsbsim preadaptive_mrac_io preadaptive_mrac_jsbsim gtest_main)
   target_include_directories(test_jsbsim PRIVATE test/core)
+  catkin_add_gtest(test_jsbsim_lane test/jsbsim/test_jsbsim_lane.cpp)
+  target_link_libraries(test_jsbsim_lane preadaptive_mrac_jsbsim gtest_main)
   catkin_add_gtest(test_jsbsim_overlay test/jsbsim/test_jsbsim_overlay.cpp)
   target_link_libraries(test_jsbsim_overlay preadaptive_mrac_io preadaptive_mrac_jsbsim gtest_main)
   target_compile_definitions(test_param_table PRIVATE
