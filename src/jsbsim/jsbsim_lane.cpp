@@ -18,9 +18,6 @@ namespace preadaptive_mrac {
 
 namespace {
 
-// A reply is usually there within JSBSim's step (about 7 us here): spin this long before
-// sleeping on the ring, so that a step costs no system call when the two sides keep pace.
-constexpr long kSpinNs = 200000;
 constexpr char kPreloadName[] = "libpmrac_jsbsim_lane.so";
 
 }  // namespace
@@ -106,7 +103,7 @@ bool JsbsimLane::receive(bool outputs, std::string* into, int wait_ms) {
     }
     const long now = lane::nowNs();
     if (now >= until) return false;
-    if (now - start < kSpinNs)
+    if (now - start < lane::kSpinNs)
       lane::relax(now - start);
     else
       lane::sleepOn(&r->seq, &r->sleeping, seen, until - now);

@@ -130,6 +130,11 @@ inline long nowNs() {
   return t.tv_sec * 1000000000L + t.tv_nsec;
 }
 
+/// How long either side spins for the other's bytes before it sleeps on the ring: a reply is
+/// usually there within JSBSim's step (about 7 us), and JSBSim's next command within the
+/// client's controller step, so a step costs no system call when the two sides keep pace.
+constexpr long kSpinNs = 200000;
+
 /// \brief One turn of a spin that has waited `spun_ns` so far: a pause, and after the first
 /// kYieldAfterNs a yield of the core. With more spinning threads than cores (two JSBSim runs
 /// on two cores) the one waited for may be queued behind the spinner on its core.

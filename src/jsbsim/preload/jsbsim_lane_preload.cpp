@@ -29,9 +29,8 @@ namespace lane = preadaptive_mrac::lane;
 
 // JSBSim's main loop reads its input socket once per pass, also while held between steps.
 // After a command it reads on until the socket is empty, and a step's second pass follows at
-// once: a short wait must not sleep. Only an input silent for this long sleeps (woken by the
-// next command, or after kSleepNs to let JSBSim's loop go round).
-constexpr long kSpinNs = 200000;
+// once: a short wait must not sleep. Only an input silent for lane::kSpinNs sleeps (woken by
+// the next command, or after kSleepNs to let JSBSim's loop go round).
 constexpr long kSleepNs = 2000000;
 
 lane::Shared* g_lane = nullptr;
@@ -93,7 +92,7 @@ ssize_t laneRecv(void* buf, size_t n) {
   if (!g_was_empty) {
     g_was_empty = true;
     g_empty_since = now;
-  } else if (now - g_empty_since > kSpinNs) {
+  } else if (now - g_empty_since > lane::kSpinNs) {
     lane::Ring* r = &g_lane->to_jsbsim;
     lane::sleepOn(&r->seq, &r->sleeping, r->seq.load(), kSleepNs);
     const size_t late = lane::read(r, static_cast<char*>(buf), n);
