@@ -3,13 +3,14 @@
 # holds only main().
 
 # ROS-free parts of the glue (parameter reading, the publisher guard, latency statistics):
-# tested without a master.
+# tested without a master. Parameter reading reads a JSBSim aircraft's elevator
+# (~elevator_from_aircraft), so it uses the JSBSim engine's library.
 add_library(preadaptive_mrac_ros_params
   src/ros/node_params.cpp
   src/ros/publisher_guard.cpp
   src/ros/latency_stats.cpp
   src/ros/tick_source.cpp)
-target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io)
+target_link_libraries(preadaptive_mrac_ros_params PUBLIC preadaptive_mrac_io preadaptive_mrac_jsbsim)
 # node_params reads the struct generated from params/nodes.yaml (cmake/params.cmake)
 add_dependencies(preadaptive_mrac_ros_params pmrac_params_headers)
 

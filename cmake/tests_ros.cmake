@@ -9,7 +9,8 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_node_params preadaptive_mrac_ros_params gtest_main)
   target_compile_definitions(test_ros_node_params PRIVATE
     PMRAC_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config"
-    PMRAC_PARAMS_DIR="${CMAKE_CURRENT_SOURCE_DIR}/params")
+    PMRAC_PARAMS_DIR="${CMAKE_CURRENT_SOURCE_DIR}/params"
+    PMRAC_JSBSIM_ROOT="${CMAKE_CURRENT_SOURCE_DIR}/jsbsim")
   # ~accept_from's matching: which caller ids pass, drops counted and warned once.
   catkin_add_gtest(test_ros_publisher_guard test/ros/test_publisher_guard.cpp)
   target_link_libraries(test_ros_publisher_guard preadaptive_mrac_ros_params gtest_main)

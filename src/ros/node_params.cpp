@@ -4,10 +4,13 @@
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <set>
 
 #include "preadaptive_mrac/core/schema/param_table.hpp"
 #include "preadaptive_mrac/io/weights_io.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_overlay.hpp"
+#include "preadaptive_mrac/jsbsim/jsbsim_process.hpp"
 #include "preadaptive_mrac/ros/publisher_guard.hpp"
 
 namespace preadaptive_mrac {
@@ -107,6 +110,60 @@ void appendProblems(std::vector<std::string>* out, const std::vector<std::string
   out->insert(out->end(), in.begin(), in.end());
 }
 
+/// ~elevator_from_aircraft: `tree` with plant.actuator's enabled, max_deflection and max_rate set
+/// to the elevator of its JSBSim aircraft (the values preadapt_sim sets when no --elevator is
+/// given), so the plant section is then read, checked and used as if the plant file had them.
+/// A plant section that does not read is returned as it is (its problems are reported by the
+/// caller's readRunConfig); the cases with no aircraft elevator to take are problems of `r`.
+/// `note` gets one line saying where the elevator came from.
+ParamValue withAircraftElevator(ParamReader& r, const ParamValue& tree, const KeyStyle& style,
+                                std::string* note) {
+  const std::string key = "elevator_from_aircraft";
+  Sections plant_only;
+  plant_only.controller = false;
+  plant_only.scenario = false;
+  PlantConfig plant;
+  try {
+    plant = readRunConfig(tree, style, plant_only).plant;
+  } catch (const ConfigError&) {
+    return tree;
+  }
+  if (plant.engine != PlantEngineKind::kJsbsim) {
+    r.fail(key,
+           "needs plant.engine jsbsim (the elevator is read from the JSBSim aircraft's flight "
+           "control system)");
+    return tree;
+  }
+  const std::string& aircraft = plant.jsbsim.aircraft;
+  std::optional<JsbsimElevator> el;
+  try {
+    el = jsbsimOrdinaryElevator(plant.jsbsim);
+  } catch (const JsbsimError& e) {
+    r.fail(key, std::string("cannot read the aircraft's elevator: ") + e.what());
+    return tree;
+  }
+  if (!el) {
+    r.fail(key, "the aircraft '" + aircraft +
+                    "' carries the package's interface: its elevator is the plant file's (the "
+                    "launch files: elevator:=b747, or a file)");
+    return tree;
+  }
+  if (!el->limitsKnown()) {
+    r.fail(key, "the aircraft '" + aircraft +
+                    "' gives no elevator travel and rate in its flight control system: give the "
+                    "elevator in a file (the launch files: elevator:=FILE)");
+    return tree;
+  }
+  ParamValue out = tree;
+  out.setPath("plant.actuator.enabled", ParamValue::makeBool(true));
+  out.setPath("plant.actuator.max_deflection", ParamValue::makeDouble(el->symmetricTravel()));
+  out.setPath("plant.actuator.max_rate", ParamValue::makeDouble(el->max_rate));
+  *note = "plant.actuator from the aircraft '" + aircraft + "': travel " +
+          formatNumber(el->symmetricTravel()) + " rad, rate " + formatNumber(el->max_rate) +
+          " rad/s (" + el->writer + ")";
+  return out;
+}
+
 }  // namespace
 
 std::string defaultsLine(const std::vector<std::string>& defaults_used) {
@@ -145,13 +202,17 @@ PlantNodeParams readPlantNodeParams(const ParamValue& tree, const KeyStyle& styl
     r.fail("latency_report",
            "'" + p.latency_report + "' exists: not replaced (remove it or name a new file)");
 
+  std::string elevator_note;
+  const ParamValue config =
+      p.elevator_from_aircraft ? withAircraftElevator(r, tree, style, &elevator_note) : tree;
   std::vector<std::string> problems = r.problems();
   try {
     Sections s;
     s.plant = true;
     s.controller = false;
     s.scenario = true;
-    p.run = readRunConfig(tree, style, s);
+    p.run = readRunConfig(config, style, s);
+    if (!elevator_note.empty()) p.run.derived.push_back(elevator_note);
     // the plant's step is its own ~dt (the controller's is checked with its sample_time)
     if (r.usable("dt")) {
       const std::string why = runLengthProblem(p.run.scenario.endTime(), p.dt);
@@ -173,6 +234,9 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
   readNodeRows(r, tree, &p, configSectionsAnd({"reconfigure"}));
   p.accept_from = readCallerList(r, tree, "accept_from");
 
+  std::string elevator_note;
+  const ParamValue config =
+      p.elevator_from_aircraft ? withAircraftElevator(r, tree, style, &elevator_note) : tree;
   std::vector<std::string> problems = r.problems();
   bool run_ok = false;
   try {
@@ -180,7 +244,8 @@ ControllerNodeParams readControllerNodeParams(const ParamValue& tree, const KeyS
     s.plant = true;
     s.controller = true;
     s.scenario = false;
-    p.run = readRunConfig(tree, style, s);
+    p.run = readRunConfig(config, style, s);
+    if (!elevator_note.empty()) p.run.derived.push_back(elevator_note);
     run_ok = true;
   } catch (const ConfigError& e) {
     appendProblems(&problems, e.problems());

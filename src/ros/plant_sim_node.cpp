@@ -393,6 +393,7 @@ RunReport PlantSimNode::report() const {
 
 std::unique_ptr<PlantSimNode> makePlantSimNode(const NodeContext& ctx,
                                                const PlantNodeParams& params) {
+  for (const std::string& d : params.run.derived) ROS_INFO("derived at start: %s", d.c_str());
   try {
     return std::make_unique<PlantSimNode>(ctx, params);
   } catch (const JsbsimError& e) {

@@ -15,7 +15,7 @@ namespace {
 /// The travel and rate of an ordinary JSBSim aircraft's elevator as plant.actuator overrides
 /// (none when its flight control system does not give both).
 std::vector<std::string> aircraftElevatorSets(const JsbsimElevator& el) {
-  if (!(el.travelKnown() && el.max_rate > 0.0)) return {};
+  if (!el.limitsKnown()) return {};
   char travel[64], rate[64];
   std::snprintf(travel, sizeof travel, "plant.actuator.max_deflection=%.17g", el.symmetricTravel());
   std::snprintf(rate, sizeof rate, "plant.actuator.max_rate=%.17g", el.max_rate);

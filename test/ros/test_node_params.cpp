@@ -503,6 +503,65 @@ TEST(PlantNodeParams, JsbsimExecutableIsNeverAParameter) {
   }
 }
 
+/// b747.yaml's plant on the JSBSim engine flying `aircraft` of the package's JSBSim root, with
+/// an elevator unlike any aircraft's and ~elevator_from_aircraft set.
+pm::ParamValue jsbsimTree(const std::string& aircraft, const std::string& second_file) {
+  pm::ParamValue tree = loadConfig({"plant/b747.yaml", second_file});
+  tree.setPath("plant.engine", pm::ParamValue::makeString("jsbsim"));
+  tree.setPath("plant.jsbsim.root", pm::ParamValue::makeString(PMRAC_JSBSIM_ROOT));
+  tree.setPath("plant.jsbsim.aircraft", pm::ParamValue::makeString(aircraft));
+  tree.setPath("plant.actuator.max_deflection", pm::ParamValue::makeDouble(0.1));
+  tree.setPath("plant.actuator.max_rate", pm::ParamValue::makeDouble(0.2));
+  tree.setPath("elevator_from_aircraft", pm::ParamValue::makeBool(true));
+  return tree;
+}
+
+TEST(NodeParams, ElevatorFromAircraftIsTheAircraftsTravelAndRateInBothNodes) {
+  // the search for JSBSim comes first; its program is not run here
+  setenv("PMRAC_JSBSIM", "/bin/true", 1);
+  const std::string note =
+      "plant.actuator from the aircraft 'navion': travel 0.4363 rad, rate 1.0472 rad/s "
+      "(<actuator> 'Elevator Actuator')";
+  const auto plant = pm::ros1::readPlantNodeParams(jsbsimTree("navion", "scenarios/scenario1.yaml"),
+                                                   style("/plant_sim"));
+  const auto ctrl = pm::ros1::readControllerNodeParams(
+      jsbsimTree("navion", "controller/default.yaml"), style("/mrac_controller"));
+  for (const pm::RunConfig* rc : {&plant.run, &ctrl.run}) {
+    EXPECT_TRUE(rc->plant.actuator.enabled);
+    EXPECT_EQ(rc->plant.actuator.max_deflection, 0.4363);
+    EXPECT_EQ(rc->plant.actuator.max_rate, 1.0472);
+    EXPECT_TRUE(anyContains(rc->derived, note)) << joined(rc->derived);
+  }
+  // off (the default): the plant file's elevator as it is
+  pm::ParamValue off = jsbsimTree("navion", "scenarios/scenario1.yaml");
+  off.map().erase("elevator_from_aircraft");
+  const auto as_given = pm::ros1::readPlantNodeParams(off, style("/plant_sim"));
+  EXPECT_FALSE(as_given.run.plant.actuator.enabled);
+  EXPECT_EQ(as_given.run.plant.actuator.max_deflection, 0.1);
+}
+
+TEST(NodeParams, ElevatorFromAircraftRefusedWhereThereIsNone) {
+  setenv("PMRAC_JSBSIM", "/bin/true", 1);
+  const auto refusal = [](const pm::ParamValue& tree) {
+    return joined(problemsOf([&] { pm::ros1::readPlantNodeParams(tree, style("/plant_sim")); }));
+  };
+  pm::ParamValue linear = jsbsimTree("navion", "scenarios/scenario1.yaml");
+  linear.setPath("plant.engine", pm::ParamValue::makeString("linear"));
+  EXPECT_NE(refusal(linear).find("/plant_sim/elevator_from_aircraft: needs plant.engine jsbsim"),
+            std::string::npos)
+      << refusal(linear);
+  const std::string own = refusal(jsbsimTree("b747_pmrac", "scenarios/scenario1.yaml"));
+  EXPECT_NE(own.find("/plant_sim/elevator_from_aircraft: the aircraft 'b747_pmrac' carries the "
+                     "package's interface"),
+            std::string::npos)
+      << own;
+  const std::string missing = refusal(jsbsimTree("737", "scenarios/scenario1.yaml"));
+  EXPECT_NE(missing.find("/plant_sim/elevator_from_aircraft: cannot read the aircraft's elevator: "
+                         "plant.jsbsim.aircraft: no aircraft '737'"),
+            std::string::npos)
+      << missing;
+}
+
 TEST(ControllerNodeParams, WeightsOutNeverReplacesAnotherRunsFile) {
   pm::ParamValue tree = loadConfig({"plant/b747.yaml", "controller/default.yaml"});
   const std::string path = existingTempFile("/tmp/pmrac_weights_out_XXXXXX");

@@ -26,6 +26,9 @@ struct JsbsimElevator {
   double max_rate = 0.0;         ///< the actuator's rate limit [rad/s] (0: none found)
   /// \brief True when the FCS gives the surface a travel (a clip or a scale's range).
   bool travelKnown() const { return max_rad > min_rad; }
+  /// \brief True when the FCS gives both a travel and a rate limit: what the package needs to
+  /// fly the aircraft's own elevator (plant.actuator).
+  bool limitsKnown() const { return travelKnown() && max_rate > 0.0; }
   /// \brief The package's symmetric travel about the trim: the smaller of the two stops [rad].
   double symmetricTravel() const;
 };
