@@ -6,7 +6,8 @@
 #     fly the aircraft's own elevator (travel and rate from its flight control system), the bag
 #     is named _jsbsim_, and its error is preadapt_sim's with the same keys (the controller
 #     designs on the paper's B-747 model in both);
-#  2. jsbsim_aircraft alone (no plant_engine) is the JSBSim engine too (roslaunch --dump-params);
+#  2. jsbsim_aircraft alone (no plant_engine) is the JSBSim engine too, and jsbsim_elevator
+#     reaches both nodes (roslaunch --dump-params);
 #  3. elevator:=aircraft where there is no aircraft elevator to take (b747_pmrac, the linear
 #     engine) is refused at start-up, exit code 2, naming ~elevator_from_aircraft and the cause;
 #     an aircraft name that looks like a number (737) is taken as a name;
@@ -90,12 +91,14 @@ PY
   check "the ROS run's error is preadapt_sim's with the same keys" test $? = 0
 fi
 
-# 2. jsbsim_aircraft alone names the engine.
-roslaunch --dump-params preadaptive_mrac scenario.launch "${KEYS[@]}" >"$TMP/params.yaml" 2>&1
+# 2. jsbsim_aircraft alone names the engine; jsbsim_elevator reaches both nodes.
+roslaunch --dump-params preadaptive_mrac scenario.launch "${KEYS[@]}" jsbsim_elevator:=surface \
+  >"$TMP/params.yaml" 2>&1
 for node in plant_sim mrac_controller; do
   check "jsbsim_aircraft alone: $node flies JSBSim" grep -qx "/$node/plant/engine: jsbsim" "$TMP/params.yaml"
   check "jsbsim_aircraft alone: $node takes the aircraft's elevator" \
     grep -qx "/$node/elevator_from_aircraft: true" "$TMP/params.yaml"
+  check "jsbsim_elevator:=surface: $node" grep -qx "/$node/plant/jsbsim/elevator: surface" "$TMP/params.yaml"
 done
 
 # 3. Refusals at start-up, naming the key and the cause.
