@@ -8,6 +8,7 @@ add_message_files(
     AttentionEvent.msg
     AdaptationStatus.msg
     RecorderProgress.msg
+    RecorderConnections.msg
     ParamChange.msg)
 generate_messages(DEPENDENCIES std_msgs)
 

@@ -16,6 +16,7 @@
 #include "preadaptive_mrac/ElevatorCommand.h"
 #include "preadaptive_mrac/PlantState.h"
 #include "preadaptive_mrac/PlantTruth.h"
+#include "preadaptive_mrac/RecorderConnections.h"
 #include "preadaptive_mrac/RecorderProgress.h"
 #include "preadaptive_mrac/ros/ros_params.hpp"
 
@@ -74,6 +75,7 @@ BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params
     const std::string resolved = nh_.resolveName(params.topics[i]);
     const std::string type = i < params.types.size() ? params.types[i] : std::string();
     counts_[resolved] = 0;
+    sub_topics_.push_back(resolved);
     // Queue size 0: unbounded, so nothing is dropped however far behind this node falls.
     if (type == ros::message_traits::datatype<PlantState>()) {
       subs_.push_back(subscribeTyped<PlantState>(resolved));
@@ -104,6 +106,15 @@ BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params
   // With a bounded queue a fast recorder's burst of status progress dropped the states' and
   // commands' last ones on their way to a slow subscriber (reconfigure.test, 1 run in 3).
   progress_pub_ = ctx.pnh().advertise<RecorderProgress>("progress", 0);
+  // A publisher that appears after this node subscribed (a controller of the user's started
+  // later) is connected to by roscpp's threads some milliseconds after the master says so; a
+  // plant waits for this message before step 0, so the first commands are not missed.
+  connections_pub_ = ctx.pnh().advertise<RecorderConnections>("connections", 1, true);
+  publishConnections();
+  connections_timer_ =
+      nh_.createWallTimer(ros::WallDuration(0.005), [this](const ros::WallTimerEvent&) {
+        publishConnections();
+      });
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
   if (guard_.enabled())
     ROS_INFO("writing messages only from %s (~accept_from)", guard_.acceptedText().c_str());
@@ -277,6 +288,19 @@ void BagRecorder::record(const std::string& topic, ros::Time t, const M& msg,
   }
 }
 
+void BagRecorder::publishConnections() {
+  std::vector<std::uint32_t> now;
+  now.reserve(subs_.size());
+  for (const ros::Subscriber& sub : subs_) now.push_back(sub.getNumPublishers());
+  if (connections_pub_ && now != connected_) {
+    connected_ = now;
+    const auto m = boost::make_shared<RecorderConnections>();
+    m->topics = sub_topics_;
+    m->publishers = now;
+    connections_pub_.publish(RecorderConnections::ConstPtr(m));
+  }
+}
+
 void BagRecorder::reportProgress(const std::string& topic, const PlantState& st) {
   total_steps_ = std::max(total_steps_, st.total_steps);
   const bool last = st.total_steps > 0 && st.step + 1 >= st.total_steps;
@@ -307,6 +331,7 @@ BagRecorder::~BagRecorder() { finish(); }
 void BagRecorder::finish() {
   if (closed_) return;
   closed_ = true;
+  connections_timer_.stop();
   subs_.clear();
   std::uint64_t total = 0;
   for (const auto& kv : counts_) total += kv.second;

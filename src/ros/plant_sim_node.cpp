@@ -5,6 +5,7 @@
 #include <std_msgs/Bool.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <algorithm>
 #include <boost/make_shared.hpp>
 #include <cmath>
 #include <fstream>
@@ -73,6 +74,17 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
           if (m->topic == state_pub_.getTopic()) clock_->progress(*m);  // not another plant's
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+    // The recorder's ~connections is beside its ~progress (both private topics of that node).
+    connections_sub_ = own_.subscribe<RecorderConnections>(
+        ros::names::parentNamespace(progress_sub_.getTopic()) + "/connections", 1,
+        [this](const RecorderConnections::ConstPtr& m) {
+          recorder_records_commands_ = false;
+          for (std::size_t i = 0; i < m->topics.size() && i < m->publishers.size(); ++i) {
+            if (m->topics[i] != cmd_topic_) continue;
+            recorder_records_commands_ = true;
+            recorder_cmd_publishers_ = static_cast<int>(m->publishers[i]);
+          }
+        });
   }
 }
 
@@ -124,7 +136,7 @@ bool PlantSimNode::waitForSubscribers() {
     if (static_cast<int>(state_pub_.getNumSubscribers()) >= params_.min_state_subscribers &&
         static_cast<int>(truth_pub_.getNumSubscribers()) >= params_.min_truth_subscribers &&
         (!progress_sub_ || progress_sub_.getNumPublishers() > 0) &&
-        (!ready_sub_ || controller_ready_))
+        (!ready_sub_ || controller_ready_) && recorderHasTheCommands())
       return true;
     const double waited = wallNow() - start;
     if (timeout > 0.0 && !warned && waited > 0.5 * timeout) {
@@ -138,13 +150,20 @@ bool PlantSimNode::waitForSubscribers() {
       return false;
     }
     // Connections are made by roscpp's own threads; poll them in short bounded waits (and
-    // take controller/ready, which comes on this node's own queue).
-    if (ready_sub_)
+    // take controller/ready and the recorder's connections, which come on this node's own
+    // queue).
+    if (ready_sub_ || connections_sub_)
       queue_.callAvailable(ros::WallDuration(0.002));
     else
       ros::WallDuration(0.002).sleep();
   }
   return false;
+}
+
+bool PlantSimNode::recorderHasTheCommands() const {
+  if (!connections_sub_ || !recorder_records_commands_) return true;
+  return recorder_cmd_publishers_ >= 0 &&
+         recorder_cmd_publishers_ >= static_cast<int>(cmd_sub_.getNumPublishers());
 }
 
 std::string PlantSimNode::missingPeers() const {
@@ -156,6 +175,12 @@ std::string PlantSimNode::missingPeers() const {
                   std::to_string(params_.min_truth_subscribers) + " on " + truth_pub_.getTopic();
   if (progress_sub_ && progress_sub_.getNumPublishers() == 0)
     s += "; no recorder publishes " + progress_sub_.getTopic();
+  if (!recorderHasTheCommands())
+    s += "; the recorder is connected to " + std::to_string(std::max(recorder_cmd_publishers_, 0)) +
+         " of the " + std::to_string(cmd_sub_.getNumPublishers()) + " publisher(s) of " +
+         cmd_topic_ + (recorder_cmd_publishers_ < 0 ? " (it has not said so on " +
+                                                          connections_sub_.getTopic() + ")"
+                                                    : std::string());
   if (ready_sub_ && !controller_ready_)
     s += "; the controller has not said it takes states on " + ready_sub_.getTopic() +
          " (~wait_for_controller)";

@@ -36,7 +36,7 @@ import rostest
 from catkin.find_in_workspaces import find_in_workspaces
 from rosgraph_msgs.msg import Log
 
-from preadaptive_mrac.msg import AdaptationStatus, RecorderProgress
+from preadaptive_mrac.msg import AdaptationStatus, RecorderConnections, RecorderProgress
 from rostest_util import wait_for
 
 PKG = "preadaptive_mrac"
@@ -89,6 +89,12 @@ class ReconfigureTest(unittest.TestCase):
         rospy.Subscriber("controller/status", AdaptationStatus, self.on_status, queue_size=1000)
         rospy.Subscriber("/rosout", Log, self.on_log, queue_size=1000)
         self.gate = rospy.Publisher("/gate/progress", RecorderProgress, queue_size=10)
+        # The gate's ~connections beside its ~progress: it records no topic, so the plant does
+        # not wait for it to connect to the controller's commands.
+        self.gate_connections = rospy.Publisher(
+            "/gate/connections", RecorderConnections, queue_size=1, latch=True
+        )
+        self.gate_connections.publish(RecorderConnections(topics=[], publishers=[]))
         # From the start: the recorder may write the last steps before the run is followed.
         self.recorded = {}
         rospy.Subscriber("/recorder/progress", RecorderProgress, self.on_recorded, queue_size=1000)

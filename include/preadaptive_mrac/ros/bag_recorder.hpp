@@ -88,6 +88,8 @@ class BagRecorder {
   bool closeBag();
   /// \brief Whether the split size or duration is reached (then the next bag is opened).
   bool splitDue() const;
+  /// \brief Publish ~connections when a subscription's number of publishers has changed.
+  void publishConnections();
 
   NodeContext ctx_;
   ros::NodeHandle nh_;
@@ -104,7 +106,13 @@ class BagRecorder {
   std::uint64_t write_failures_ = 0;  ///< messages that could not be written
   std::string write_error_;           ///< the first write failure's reason
   std::vector<ros::Subscriber> subs_;
+  std::vector<std::string> sub_topics_;  ///< resolved topic of each of subs_
   ros::Publisher progress_pub_;
+  /// ~connections (RecorderConnections, latched): the publishers of each subscription, sent
+  /// again by connections_timer_ when a number changes.
+  ros::Publisher connections_pub_;
+  ros::WallTimer connections_timer_;
+  std::vector<std::uint32_t> connected_;  ///< the numbers last sent
   int progress_every_ = 100;
   std::uint64_t total_steps_ = 0;  ///< the largest total_steps of the states recorded
   std::map<std::string, std::uint64_t> counts_;

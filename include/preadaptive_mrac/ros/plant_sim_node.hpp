@@ -16,6 +16,7 @@
 #include "preadaptive_mrac/ElevatorCommand.h"
 #include "preadaptive_mrac/PlantState.h"
 #include "preadaptive_mrac/PlantTruth.h"
+#include "preadaptive_mrac/RecorderConnections.h"
 #include "preadaptive_mrac/RecorderProgress.h"
 #include "preadaptive_mrac/core/closed_loop.hpp"
 #include "preadaptive_mrac/ros/latency_stats.hpp"
@@ -66,6 +67,9 @@ class PlantSimNode {
   bool waitForSubscribers();
   /// \brief What the start-up wait lacks: subscriber counts, and whether a controller exists.
   std::string missingPeers() const;
+  /// \brief True when no recorder is expected, or the recorder is connected to as many
+  /// publishers of the command topic as this node is (so it gets the command of step 0).
+  bool recorderHasTheCommands() const;
   /// \brief Why no command came (for the give-up errors): no publisher, a silent controller
   /// (`silent`: "did not answer"), and any commands dropped by ~accept_from.
   std::string noCommandCause(const char* silent) const;
@@ -99,6 +103,12 @@ class PlantSimNode {
   PlantState::ConstPtr last_state_;
   ros::Subscriber cmd_sub_, progress_sub_;
   ros::Subscriber ready_sub_;      ///< controller/ready (~wait_for_controller, lockstep)
+  /// The recorder's ~connections (beside its ~progress), read on queue_ before step 0: the
+  /// publishers of the command topic it is connected to (-1: none said yet; the recorder's
+  /// topics without the command topic: no wait).
+  ros::Subscriber connections_sub_;
+  int recorder_cmd_publishers_ = -1;
+  bool recorder_records_commands_ = true;
   bool controller_ready_ = false;  ///< set on queue_ (the plant's own thread)
   diagnostic_updater::Updater updater_;
   PublisherGuard cmd_guard_;  ///< ~accept_from on the command topic
