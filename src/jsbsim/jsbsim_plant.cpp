@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iterator>
 #include <vector>
 
@@ -80,10 +81,21 @@ JsbsimPlant::JsbsimPlant(const JsbsimParams& params, double dt, double e_i0)
 }
 
 void JsbsimPlant::reset() {
-  char where[128];
+  char where[160];
   std::snprintf(where, sizeof where, "Mach %g, %g ft", params_.mach, params_.altitude_ft);
   // Nominal inputs, no wind, the operating point; then JSBSim's trim from it.
   std::string p = ic_packet_;
+  std::size_t sets = 8 + ic_lines_;
+  if (overlay_.generated()) {
+    // An ordinary aircraft's configuration: JSBSim's trim moves its kinematics (flaps, gear)
+    // to their commands at once, so the run starts with them there.
+    const bool down = params_.gear == JsbsimGear::kDown;
+    std::snprintf(where + std::strlen(where), sizeof where - std::strlen(where),
+                  ", flaps %g, gear %s", params_.flaps, down ? "down" : "up");
+    appendSet(&p, "fcs/flap-cmd-norm", params_.flaps);
+    appendSet(&p, "gear/gear-cmd-norm", down ? 1.0 : 0.0);
+    sets += 2;
+  }
   appendSet(&p, "fcs/pmrac-elevator-cmd-rad", 0.0);
   appendSet(&p, "pmrac/fault/elevator-effectiveness", 1.0);
   appendSet(&p, "pmrac/fault/pitch-damping", 1.0);
@@ -92,7 +104,7 @@ void JsbsimPlant::reset() {
   appendSet(&p, "ic/h-sl-ft", params_.altitude_ft);
   appendSet(&p, "ic/mach", params_.mach);
   appendSet(&p, "ic/gamma-rad", 0.0);
-  for (const auto& line : proc_.transact(p, 8 + ic_lines_))
+  for (const auto& line : proc_.transact(p, sets))
     if (line.find("set successful") == std::string::npos)
       throw JsbsimError(
           "JSBSim refused an input of the aircraft '" + params_.aircraft +

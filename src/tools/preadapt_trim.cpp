@@ -38,6 +38,8 @@ std::string jsbsimKeys(const JsbsimParams& p) {
   if (p.elevator != d.elevator) out += std::string(", elevator: ") + choiceName(p.elevator);
   if (p.speed_hold != d.speed_hold)
     out += p.speed_hold ? ", speed_hold: true" : ", speed_hold: false";
+  if (p.flaps != d.flaps) out += ", flaps: " + formatNumber(p.flaps);
+  if (p.gear != d.gear) out += std::string(", gear: ") + choiceName(p.gear);
   return out;
 }
 
@@ -135,7 +137,7 @@ int main(int argc, char** argv) {
     std::printf("  operating_point: {U: %.17g}\n", tr.airspeed);
     // An ordinary JSBSim aircraft's elevator, from its flight control system.
     const JsbsimElevator& el = jsb.overlay().elevator();
-    if (jsb.overlay().generated() && el.travelKnown() && el.max_rate > 0.0)
+    if (jsb.overlay().generated() && el.limitsKnown())
       std::printf(
           "  actuator: {enabled: true, max_deflection: %.17g, max_rate: %.17g}  # the "
           "aircraft's elevator: travel %.4g to %.4g rad, rate %.4g rad/s (%s)\n",

@@ -298,5 +298,64 @@ TEST(JsbsimOverlay, TheNavionFliesThroughItsOwnFlightControlSystemOrAtTheSurface
   EXPECT_TRUE(noChildLeft());
 }
 
+/// A copy of the Navion under a root of its own, given flaps and a retractable gear as JSBSim
+/// aircraft usually have them: kinematics from fcs/flap-cmd-norm and gear/gear-cmd-norm (5 s
+/// each way), a lift increment of the flaps and a drag increment of the gear.
+std::string navionWithFlapsAndGear() {
+  const fs::path root = fs::path(::testing::TempDir()) / "pmrac_test_root_navion_flaps";
+  fs::remove_all(root);
+  fs::create_directories(root / "aircraft");
+  fs::copy(fs::path(findJsbsimRoot("", "navion")) / "aircraft/navion", root / "aircraft/navion",
+           fs::copy_options::recursive);
+  const fs::path file = root / "aircraft/navion/navion.xml";
+  std::string text = readText(file);
+  const auto insert = [&](const std::string& at_text, const std::string& what, bool after) {
+    const std::size_t at = text.find(at_text);
+    ASSERT_NE(at, std::string::npos) << at_text;
+    text.insert(after ? at + at_text.size() : at, what);
+  };
+  const std::string kinematic =
+      "    <kinematic name=\"%s\"> <input>%s</input>\n"
+      "      <traverse> <setting> <position>0</position> <time>0</time> </setting>\n"
+      "                 <setting> <position>1</position> <time>5</time> </setting> </traverse>\n"
+      "      <output>%s</output> </kinematic>\n";
+  char flaps[512], gear[512];
+  std::snprintf(flaps, sizeof flaps, kinematic.c_str(), "flaps", "fcs/flap-cmd-norm",
+                "fcs/flap-pos-norm");
+  std::snprintf(gear, sizeof gear, kinematic.c_str(), "gear", "gear/gear-cmd-norm",
+                "gear/gear-pos-norm");
+  insert("  </flight_control>",
+         std::string("   <channel name=\"configuration\">\n") + flaps + gear + "   </channel>\n",
+         false);
+  const auto increment = [](const char* name, const char* prop, double c) {
+    return std::string("      <function name=\"aero/force/") + name +
+           "\"> <product> <property>aero/qbar-psf</property>"
+           " <property>metrics/Sw-sqft</property> <property>" +
+           prop + "</property> <value>" + std::to_string(c) + "</value> </product> </function>\n";
+  };
+  insert("<axis name=\"LIFT\">\n", increment("flap_lift", "fcs/flap-pos-norm", 0.3), true);
+  insert("<axis name=\"DRAG\">\n", increment("gear_drag", "gear/gear-pos-norm", 0.02), true);
+  std::ofstream(file) << text;
+  return root.string();
+}
+
+TEST(JsbsimOverlay, FlapsAndGearAreSetBeforeTheTrimAndStayThere) {
+  JsbsimParams clean = navion();
+  clean.root = navionWithFlapsAndGear();
+  JsbsimParams landing = clean;
+  landing.flaps = 1.0;
+  landing.gear = JsbsimGear::kDown;
+  JsbsimPlant a(clean, 0.001, 0.0), b(landing, 0.001, 0.0);
+  // The flaps' lift lowers the trimmed alpha, the gear's drag raises the throttle.
+  EXPECT_LT(b.trim().alpha, a.trim().alpha - 0.5 * M_PI / 180.0);
+  EXPECT_GT(b.trim().throttle, a.trim().throttle + 0.02);
+  // Trimmed with flaps and gear where they stay: level flight goes on with nothing moving.
+  const Vec theta = Vec::Zero(3);
+  for (JsbsimPlant* p : {&a, &b}) {
+    for (int k = 0; k < 2000; ++k) p->step(0.001, theta, 0.0, 0.0, 0.0);
+    EXPECT_LT(std::abs(p->state()[1]), 2e-4);  // alpha's deviation after 2 s [rad]
+  }
+}
+
 }  // namespace
 }  // namespace preadaptive_mrac
