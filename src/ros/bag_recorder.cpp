@@ -111,10 +111,8 @@ BagRecorder::BagRecorder(const NodeContext& ctx, const BagRecorderParams& params
   // plant waits for this message before step 0, so the first commands are not missed.
   connections_pub_ = ctx.pnh().advertise<RecorderConnections>("connections", 1, true);
   publishConnections();
-  connections_timer_ =
-      nh_.createWallTimer(ros::WallDuration(0.005), [this](const ros::WallTimerEvent&) {
-        publishConnections();
-      });
+  connections_timer_ = nh_.createWallTimer(
+      ros::WallDuration(0.005), [this](const ros::WallTimerEvent&) { publishConnections(); });
   ROS_INFO("recording %zu topic(s) to %s", params.topics.size(), path_.c_str());
   if (guard_.enabled())
     ROS_INFO("writing messages only from %s (~accept_from)", guard_.acceptedText().c_str());

@@ -178,9 +178,10 @@ std::string PlantSimNode::missingPeers() const {
   if (!recorderHasTheCommands())
     s += "; the recorder is connected to " + std::to_string(std::max(recorder_cmd_publishers_, 0)) +
          " of the " + std::to_string(cmd_sub_.getNumPublishers()) + " publisher(s) of " +
-         cmd_topic_ + (recorder_cmd_publishers_ < 0 ? " (it has not said so on " +
-                                                          connections_sub_.getTopic() + ")"
-                                                    : std::string());
+         cmd_topic_ +
+         (recorder_cmd_publishers_ < 0
+              ? " (it has not said so on " + connections_sub_.getTopic() + ")"
+              : std::string());
   if (ready_sub_ && !controller_ready_)
     s += "; the controller has not said it takes states on " + ready_sub_.getTopic() +
          " (~wait_for_controller)";

@@ -102,7 +102,7 @@ class PlantSimNode {
   ros::Publisher done_pub_;
   PlantState::ConstPtr last_state_;
   ros::Subscriber cmd_sub_, progress_sub_;
-  ros::Subscriber ready_sub_;      ///< controller/ready (~wait_for_controller, lockstep)
+  ros::Subscriber ready_sub_;  ///< controller/ready (~wait_for_controller, lockstep)
   /// The recorder's ~connections (beside its ~progress), read on queue_ before step 0: the
   /// publishers of the command topic it is connected to (-1: none said yet; the recorder's
   /// topics without the command topic: no wait).
