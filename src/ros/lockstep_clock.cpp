@@ -2,12 +2,20 @@
 #include <std_msgs/Bool.h>
 
 #include <algorithm>
+#include <functional>
 
 #include "preadaptive_mrac/ros/plant_clock.hpp"
 #include "preadaptive_mrac/ros/plant_sim_node.hpp"
 
 namespace preadaptive_mrac {
 namespace ros1 {
+namespace {
+
+/// How long the plant waits for the recorder to write the command of step 0 before it
+/// publishes state 0 again [s].
+constexpr double kFirstCommandResend = 0.02;
+
+}  // namespace
 
 LockstepClock::LockstepClock(PlantSimNode& node) : PlantClock(node) {
   const PlantNodeParams& p = node_.params_;
@@ -31,6 +39,9 @@ bool LockstepClock::take(const ElevatorCommand& msg, double arrival, double* lat
     return false;
   }
   const auto expected = static_cast<std::uint64_t>(node_.sim_.step());
+  // A second answer to the awaited step (to its state published again) changes nothing.
+  if (!node_.sim_.done() && msg.step == expected && node_.have_cmd_ && node_.cmd_step_ == expected)
+    return false;
   if (node_.sim_.done() || msg.step != expected) {
     ++node_.commands_ignored_;
     ROS_WARN_THROTTLE(1.0, "ignoring command for step %llu (waiting for step %llu)",
@@ -45,12 +56,52 @@ bool LockstepClock::take(const ElevatorCommand& msg, double arrival, double* lat
 
 void LockstepClock::progress(const RecorderProgress& msg) {
   std::lock_guard<std::mutex> lock(node_.mutex_);
-  if (!have_progress_ || msg.step > recorded_step_) recorded_step_ = msg.step;
-  have_progress_ = true;
-  if (msg.topic == node_.cmd_sub_.getTopic()) {
+  if (msg.topic == node_.cmd_topic_) {
     if (!have_cmd_progress_ || msg.step > recorded_cmd_step_) recorded_cmd_step_ = msg.step;
     have_cmd_progress_ = true;
+    return;
   }
+  if (!have_progress_ || msg.step > recorded_step_) recorded_step_ = msg.step;
+  have_progress_ = true;
+}
+
+bool LockstepClock::serveUntil(const std::function<bool()>& done, double slice,
+                               const std::function<void(double)>& between) {
+  PlantSimNode& n = node_;
+  const double deadline = wallNow() + n.params_.command_timeout;
+  while (n.ctx_.ok()) {
+    if (done()) return true;
+    const double now = wallNow();
+    if (now >= deadline) return false;
+    if (between) between(now);
+    n.queue_.callAvailable(ros::WallDuration(std::min(deadline - now, slice)));
+  }
+  return false;
+}
+
+void LockstepClock::waitForRecordedFirstCommand() {
+  PlantSimNode& n = node_;
+  if (!n.connections_sub_ || !n.recorder_records_commands_) return;
+  const auto written = [&] {
+    std::lock_guard<std::mutex> lock(n.mutex_);
+    return have_cmd_progress_;
+  };
+  if (written()) return;
+  {
+    std::lock_guard<std::mutex> lock(n.mutex_);
+    ++recorder_waits_;
+  }
+  double again_at = wallNow() + kFirstCommandResend;
+  const auto publish_again = [&](double now) {
+    if (now < again_at) return;
+    n.state_pub_.publish(n.last_state_);
+    again_at = now + kFirstCommandResend;
+  };
+  if (!serveUntil(written, 0.005, publish_again) && n.ctx_.ok())
+    ROS_WARN(
+        "the recorder has not written the command of step 0 on %s after %.3f s "
+        "(~command_timeout); going on without it",
+        n.cmd_topic_.c_str(), n.params_.command_timeout);
 }
 
 void LockstepClock::waitForRecordedCommands() {
@@ -59,19 +110,13 @@ void LockstepClock::waitForRecordedCommands() {
     std::lock_guard<std::mutex> lock(n.mutex_);
     return !have_cmd_progress_ || !n.have_cmd_ || recorded_cmd_step_ >= n.cmd_step_;
   };
-  const double deadline = wallNow() + n.params_.command_timeout;
-  while (n.ctx_.ok() && !done()) {
-    if (wallNow() > deadline) {
-      std::lock_guard<std::mutex> lock(n.mutex_);
-      ROS_WARN(
-          "the recorder has written command step %llu of %s, not yet the last one taken "
-          "(%llu), after %.3f s (~command_timeout); ending anyway",
-          static_cast<unsigned long long>(recorded_cmd_step_), n.cmd_sub_.getTopic().c_str(),
-          static_cast<unsigned long long>(n.cmd_step_), n.params_.command_timeout);
-      return;
-    }
-    n.queue_.callAvailable(ros::WallDuration(0.01));
-  }
+  if (serveUntil(done, 0.01, nullptr) || !n.ctx_.ok()) return;
+  std::lock_guard<std::mutex> lock(n.mutex_);
+  ROS_WARN(
+      "the recorder has written command step %llu of %s, not yet the last one taken "
+      "(%llu), after %.3f s (~command_timeout); ending anyway",
+      static_cast<unsigned long long>(recorded_cmd_step_), n.cmd_topic_.c_str(),
+      static_cast<unsigned long long>(n.cmd_step_), n.params_.command_timeout);
 }
 
 void LockstepClock::published(std::uint64_t step, double wall) {
@@ -87,26 +132,19 @@ bool LockstepClock::waitForRecorder(std::uint64_t step, std::uint64_t lag) {
     return have_progress_ && recorded_step_ >= needed;
   };
   if (step < lag || caught_up()) return true;
-  const double deadline = wallNow() + node_.params_.command_timeout;
-  while (node_.ctx_.ok()) {
-    if (caught_up()) return true;
-    const double remaining = deadline - wallNow();
-    if (remaining <= 0.0) {
-      std::lock_guard<std::mutex> lock(node_.mutex_);
-      ROS_ERROR(
-          "the recorder (%s) has written step %llu of %s, needed %llu, and made no "
-          "progress for %.3f s (~command_timeout); stopping",
-          node_.progress_sub_.getTopic().c_str(), static_cast<unsigned long long>(recorded_step_),
-          node_.state_pub_.getTopic().c_str(), static_cast<unsigned long long>(needed),
-          node_.params_.command_timeout);
-      return false;
-    }
-    {
-      std::lock_guard<std::mutex> lock(node_.mutex_);
-      ++recorder_waits_;
-    }
-    node_.queue_.callAvailable(ros::WallDuration(std::min(remaining, 0.1)));
-  }
+  const auto count_wait = [&](double) {
+    std::lock_guard<std::mutex> lock(node_.mutex_);
+    ++recorder_waits_;
+  };
+  if (serveUntil(caught_up, 0.1, count_wait)) return true;
+  if (!node_.ctx_.ok()) return false;
+  std::lock_guard<std::mutex> lock(node_.mutex_);
+  ROS_ERROR(
+      "the recorder (%s) has written step %llu of %s, needed %llu, and made no "
+      "progress for %.3f s (~command_timeout); stopping",
+      node_.progress_sub_.getTopic().c_str(), static_cast<unsigned long long>(recorded_step_),
+      node_.state_pub_.getTopic().c_str(), static_cast<unsigned long long>(needed),
+      node_.params_.command_timeout);
   return false;
 }
 
@@ -192,6 +230,7 @@ int LockstepClock::run() {
       n.finish(false);
       return kExitRuntimeError;
     }
+    if (k == 0) waitForRecordedFirstCommand();
     n.advance(u);
     n.updater_.update();
     if (n.sim_.nonFinite()) {

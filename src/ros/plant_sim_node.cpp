@@ -71,7 +71,8 @@ PlantSimNode::PlantSimNode(const NodeContext& ctx, const PlantNodeParams& params
     progress_sub_ = own_.subscribe<RecorderProgress>(
         params_.recorder_progress_topic, 100,
         [this](const RecorderProgress::ConstPtr& m) {
-          if (m->topic == state_pub_.getTopic()) clock_->progress(*m);  // not another plant's
+          // this plant's states and commands, not another plant's
+          if (m->topic == state_pub_.getTopic() || m->topic == cmd_topic_) clock_->progress(*m);
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
     // The recorder's ~connections is beside its ~progress (both private topics of that node).

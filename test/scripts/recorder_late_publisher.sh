@@ -65,7 +65,7 @@ wait $CONTROLLER
 check "your controller exits 0 after the last step" test $? = 0
 timeout 60 tail --pid=$LAUNCH -f /dev/null
 check "the plant: run completed, 3000 commands taken, no state re-sent" \
-  /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); print("plant:", {k: r[k] for k in ("completed", "commands_received", "resent_states")}); sys.exit(not (r["completed"] and r["commands_received"] == 3000 and r["resent_states"] == 0))' "$TMP/plant.json"
+  /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); print("plant:", {k: r[k] for k in ("completed", "commands_received", "resent_states", "recorder_waits")}); sys.exit(not (r["completed"] and r["commands_received"] == 3000 and r["resent_states"] == 0))' "$TMP/plant.json"
 BAG=$(ls "$TMP"/bags/short_own_controller_*.bag 2>/dev/null | head -1)
 check "the bag is closed" test -n "$BAG"
 if [ -n "$BAG" ]; then

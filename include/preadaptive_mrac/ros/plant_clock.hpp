@@ -8,6 +8,7 @@
 #include <ros/ros.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -72,6 +73,11 @@ class LockstepClock : public PlantClock {
   void report(RunReport* r) const override;
 
  private:
+  /// \brief Serve the node's queue, in waits of at most `slice` s, until done() or
+  /// ~command_timeout from now; `between` (if any) runs before each wait with the wall time.
+  /// True when done; false on timeout or shutdown (the caller tells them apart by ctx.ok()).
+  bool serveUntil(const std::function<bool()>& done, double slice,
+                  const std::function<void(double)>& between);
   /// \brief Back-pressure: wait (bounded by ~command_timeout) until the recorder has written
   /// state `step` - `lag`. False on timeout or shutdown.
   bool waitForRecorder(std::uint64_t step, std::uint64_t lag);
@@ -79,6 +85,13 @@ class LockstepClock : public PlantClock {
   /// recorder that records the commands has written the last one this node took, so that the
   /// launch it ends next does not cut that command off the bag.
   void waitForRecordedCommands();
+  /// \brief Before step 1: wait (bounded by ~command_timeout, a warning then) until a recorder
+  /// that records the commands has written the command of step 0. A subscriber counts a
+  /// publisher before the publisher has taken the connection, so only a written command shows
+  /// that the recorder gets every later one (one TCP connection keeps their order). Until then
+  /// state 0 is published again every 20 ms: the controller answers a repeated state with the
+  /// same command, and the recorder writes neither twice.
+  void waitForRecordedFirstCommand();
   /// \brief Wait for the answer to step k (re-sending its state); false on timeout (logged)
   /// or shutdown, *give_up set on timeout.
   bool awaitAnswer(std::uint64_t k, double* u, bool* give_up);
