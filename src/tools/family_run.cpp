@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <mutex>
 #include <thread>
 
@@ -86,11 +87,25 @@ std::string runFamily(const Options& opt, Family* fam) {
     for (;;) {
       const size_t i = next.fetch_add(1);
       if (i >= list.size()) return;
-      try {
-        runJob(opt, *fam, &list[i]);
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> lk(mu);
-        if (failure.empty()) failure = e.what();
+      // A run that fails is run once more: a JSBSim process starved past plant.jsbsim.timeout
+      // on a loaded machine must not cost the whole family. Runs are deterministic, so the
+      // second run's result is the one the first would have given; a cause that stays (a
+      // missing file) fails again and is reported.
+      for (int attempt = 1;; ++attempt) {
+        try {
+          runJob(opt, *fam, &list[i]);
+          break;
+        } catch (const std::exception& e) {
+          const std::string what = "scenario " + std::to_string(list[i].scenario) + ", mode " +
+                                   list[i].mode + ": " + e.what();
+          std::lock_guard<std::mutex> lk(mu);
+          if (attempt < 2) {
+            std::cerr << "preadapt_family: " << what << "; running it once more" << std::endl;
+            continue;
+          }
+          if (failure.empty()) failure = what;
+          break;
+        }
       }
     }
   };
