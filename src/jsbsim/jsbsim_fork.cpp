@@ -4,7 +4,10 @@
 
 #include <cerrno>
 #include <condition_variable>
+#include <cstdio>
+#include <fstream>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 namespace preadaptive_mrac {
@@ -67,6 +70,28 @@ class ForkThread {
 
 pid_t forkFromLastingThread(const std::function<void()>& child) {
   return ForkThread::instance().fork(child);
+}
+
+std::string processState(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (pid <= 0 || !std::getline(in, line)) return {};
+  // pid (comm) state ppid ...: the name may hold spaces, so read after its last ')'.
+  const size_t close = line.rfind(')');
+  if (close == std::string::npos) return {};
+  std::istringstream rest(line.substr(close + 1));
+  std::string state, field;
+  rest >> state;
+  unsigned long long utime = 0, stime = 0;
+  for (int i = 4; i <= 15 && rest >> field; ++i) {  // utime and stime are fields 14 and 15
+    if (i == 14) utime = std::stoull(field);
+    if (i == 15) stime = std::stoull(field);
+  }
+  if (state.empty()) return {};
+  const long hz = ::sysconf(_SC_CLK_TCK);
+  char cpu[64];
+  std::snprintf(cpu, sizeof cpu, "%.2f", static_cast<double>(utime + stime) / (hz > 0 ? hz : 100));
+  return "state " + state + ", " + cpu + " s of CPU";
 }
 
 }  // namespace preadaptive_mrac

@@ -375,7 +375,9 @@ bool JsbsimProcess::exited(int* status, double wait_s) {
 
 void JsbsimProcess::failDead(const std::string& what) {
   int status = 0;
-  std::string how = "it was still running, killed now";
+  const std::string state = processState(pid_);
+  std::string how =
+      "it was still running" + (state.empty() ? "" : " (" + state + ")") + ", killed now";
   if (exited(&status, 1.0)) {
     pid_ = -1;
     how = endedHow(status);

@@ -6,6 +6,7 @@
 #include <sys/types.h>
 
 #include <functional>
+#include <string>
 
 namespace preadaptive_mrac {
 
@@ -15,5 +16,10 @@ namespace preadaptive_mrac {
 /// child forked by a thread that ends before the run (a nodelet's onInit served by a thread
 /// that goes, a pool's worker) would be killed mid-run.
 pid_t forkFromLastingThread(const std::function<void()>& child);
+
+/// \brief What /proc says of a running process, for an error message: "state S, 2.31 s of
+/// CPU" (R runs or waits for a core, S sleeps, T is stopped); empty when it cannot be read.
+/// A process that did not answer tells so whether it was starved (R), waiting (S) or stopped.
+std::string processState(pid_t pid);
 
 }  // namespace preadaptive_mrac
