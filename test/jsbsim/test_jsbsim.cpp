@@ -479,8 +479,7 @@ TEST(JsbsimFailure, ASilentJsbsimStillEndsAtTheTimeout) {
     // What /proc said of it: running, waiting or stopped, and its CPU time.
     EXPECT_NE(std::string(e.what()).find("(it was still running (state "), std::string::npos)
         << e.what();
-    EXPECT_NE(std::string(e.what()).find(" s of CPU), killed now)"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find(" s of CPU), killed now)"), std::string::npos) << e.what();
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_GT(s, 0.45);
