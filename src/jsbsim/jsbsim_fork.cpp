@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <mutex>
 #include <sstream>
@@ -73,9 +74,10 @@ pid_t forkFromLastingThread(const std::function<void()>& child) {
 }
 
 std::string processState(pid_t pid) {
+  if (pid <= 0) return {};
   std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
   std::string line;
-  if (pid <= 0 || !std::getline(in, line)) return {};
+  if (!std::getline(in, line)) return {};
   // pid (comm) state ppid ...: the name may hold spaces, so read after its last ')'.
   const size_t close = line.rfind(')');
   if (close == std::string::npos) return {};
@@ -84,8 +86,9 @@ std::string processState(pid_t pid) {
   rest >> state;
   unsigned long long utime = 0, stime = 0;
   for (int i = 4; i <= 15 && rest >> field; ++i) {  // utime and stime are fields 14 and 15
-    if (i == 14) utime = std::stoull(field);
-    if (i == 15) stime = std::stoull(field);
+    // (strtoull, not stoull: this serves an error message and must not throw itself)
+    if (i == 14) utime = std::strtoull(field.c_str(), nullptr, 10);
+    if (i == 15) stime = std::strtoull(field.c_str(), nullptr, 10);
   }
   if (state.empty()) return {};
   const long hz = ::sysconf(_SC_CLK_TCK);

@@ -4,27 +4,24 @@
 # family names the run and the cause, ends with exit 0, and its summary and runs equal an
 # undisturbed family's. A run that fails twice ends the family with exit 1, naming the
 # scenario, the mode and the cause. No JSBSim is left behind either way.
-#   Env: PMRAC_BUILD_DIR (default build), PMRAC_JSBSIM (default: build/jsbsim/bin/JSBSim).
+#   Env: PMRAC_BUILD_DIR (default build); JSBSim from scripts/install_jsbsim.
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+TEST_NAME=family_jsbsim_retry
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-BIN=$BUILD/devel/lib/preadaptive_mrac
-[ -x "$BIN/preadapt_family" ] || [ ! -x "$BUILD/devel/bin/preadapt_family" ] || BIN=$BUILD/devel/bin
-[ -x "$BIN/preadapt_family" ] || { echo "SKIPPED: family_jsbsim_retry: preadapt_family not built"; exit 77; }
-JSB=${PMRAC_JSBSIM:-}
-[ -n "$JSB" ] || for c in "$BUILD/jsbsim/bin/JSBSim" /usr/games/JSBSim; do
-  [ -x "$c" ] && JSB=$c && break
-done
-[ -x "$JSB" ] || { echo "SKIPPED: family_jsbsim_retry: no JSBSim binary (scripts/install_jsbsim)"; exit 77; }
-export PMRAC_JSBSIM=$JSB
-W=$(mktemp -d "${TMPDIR:-/tmp}/family_jsbsim_retry.XXXXXX")
+# shellcheck source=test/scripts/lib/jsbsim_mark.sh
+source "$ROOT/test/scripts/lib/jsbsim_mark.sh"
+[ -x "$BUILD/devel/bin/preadapt_family" ] || { echo "SKIPPED: $TEST_NAME: build preadapt_family first"; exit 77; }
+# Every JSBSim started here carries the mark (jsbsim_ours lists them).
+export PMRAC_JSBSIM=$JSBSIM_BIN PMRAC_TEST_MARK=$JSBSIM_MARK
+W=$(mktemp -d "${TMPDIR:-/tmp}/$TEST_NAME.XXXXXX")
 trap 'rm -rf "$W"' EXIT
 # shellcheck source=test/scripts/lib/counts.sh
-source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
+source "$ROOT/test/scripts/lib/counts.sh"
 
 # One scenario of two segments, rac only: one JSBSim run of about 40 s of flight. A JSBSim
 # that does not answer for 2 s ends its run.
-F=("$BIN/preadapt_family" --seed 5 --count 1 --regimes 1 --segments 2 --modes rac --jobs 1
+F=("$BUILD/devel/bin/preadapt_family" --seed 5 --count 1 --regimes 1 --segments 2 --modes rac --jobs 1
   --set plant.engine=jsbsim --set plant.jsbsim.timeout=2 --json)
 
 # SIGSTOP the first $2 JSBSim children of process $1 (each once it runs), then wait for $1.
@@ -41,11 +38,6 @@ stop_jsbsim() {
     sleep 0.05
   done
   wait "$fam"
-}
-all_gone() {
-  local p
-  for p in "$@"; do kill -0 "$p" 2>/dev/null && return 1; done
-  return 0
 }
 # runs.jsonl without what differs by itself: the wall time, the --out-dir in the scenario path
 runs_of() {
@@ -85,6 +77,6 @@ rc=$?
   bad "runs.jsonl written for a failed family"
 sleep 0.5
 # shellcheck disable=SC2086
-[ "$(echo $STOPPED | wc -w)" = 3 ] && all_gone $STOPPED && ok "no JSBSim left behind (3 stopped)" ||
-  bad "stopped JSBSim processes:$STOPPED; left: $(pgrep -a -x JSBSim)"
+[ "$(echo $STOPPED | wc -w)" = 3 ] && [ -z "$(jsbsim_ours)" ] && ok "no JSBSim left behind (3 stopped)" ||
+  bad "stopped JSBSim processes:$STOPPED; this test's left: $(jsbsim_ours)"
 finish family_jsbsim_retry
