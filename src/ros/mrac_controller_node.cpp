@@ -31,7 +31,9 @@ MracControllerNode::MracControllerNode(const NodeContext& ctx, const ControllerN
            params.stale_policy),
       updater_(ros::NodeHandle(), ctx.pnh(), ctx.name()),
       input_guard_(makePublisherGuard(ctx, params.accept_from)),
-      truth_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300) {
+      truth_guard_(static_cast<std::size_t>(params.run.plant.n()), 1e300),
+      plant_silence_(0.25 * static_cast<double>(params.plant_lost_samples) *
+                     params.run.controller.sample_time) {
   const int n = params_.run.plant.n();
   if (!params_.weights_in.empty()) {
     ctl_.setNetwork(loadWeights(params_.weights_in, ctl_.config().hidden, n));
@@ -189,7 +191,7 @@ void MracControllerNode::stateCallback(const ros::MessageEvent<PlantState const>
     }
   }
   ++states_received_;
-  last_receipt_ = ros::Time::now().toSec();
+  plant_silence_.heard(ros::Time::now().toSec());
   latest_stamp_ = std::max(latest_stamp_, msg->header.stamp.toSec());
   if (!ctl_.needsTruth()) {
     process(*msg, nullptr);
@@ -445,7 +447,7 @@ bool MracControllerNode::plantLost() {
     return false;
   const double timeout =
       static_cast<double>(params_.plant_lost_samples) * params_.run.controller.sample_time;
-  const double silent = ros::Time::now().toSec() - last_receipt_;
+  const double silent = plant_silence_.silentFor(ros::Time::now().toSec());
   if (silent <= timeout) return false;
   // The plant has gone (killed, crashed, unloaded): commands to no plant would only fill a
   // recorder, and a launch that waits on this node would never end.

@@ -146,3 +146,24 @@ TEST(StepSequencer, NoStaleCommandsAfterThePlantsLastStep) {
   f.send(0, 20);
   EXPECT_TRUE(f.seq.onTimer(1.0));
 }
+
+// The plant-lost clock: 2 s of silence at 1 ms ticks is 2 s; a 7 s pause of the asking process
+// (its timer does not run) counts 0.5 s, so a plant paused with it is not gone when both resume,
+// and a plant that is gone for good is still found.
+TEST(SilenceClock, CountsTheAskersOwnPausesAtMostMaxGap) {
+  SilenceClock c(0.5);
+  EXPECT_EQ(c.silentFor(10.0), 0.0);  // before the first state
+  c.heard(10.0);
+  double s = 0.0;
+  for (int k = 1; k <= 2000; ++k) s = c.silentFor(10.0 + 0.001 * k);
+  EXPECT_NEAR(s, 2.0, 1e-9);
+  c.heard(12.0);
+  EXPECT_NEAR(c.silentFor(19.0), 0.5, 1e-12);  // paused 7 s
+  c.heard(19.001);                             // the plant resumed with it
+  EXPECT_EQ(c.silentFor(19.002) < 0.002, true);
+  // Gone for good while the asker runs: the silence grows with its ticks again.
+  s = c.silentFor(19.501);
+  for (int k = 1; k <= 1500; ++k) s = c.silentFor(19.501 + 0.001 * k);
+  EXPECT_NEAR(s, 2.0, 1e-9);
+  EXPECT_EQ(c.silentFor(18.0), s);  // a clock that steps back adds nothing
+}

@@ -56,6 +56,37 @@ struct StaleTick {
   double t = 0.0;          ///< its sample time [s]
 };
 
+/// \brief How long the plant has been silent, as this process saw it: the time since the last
+/// state, where an interval between two asks longer than `max_gap` (this process itself did
+/// not run: stopped, or starved of CPU) counts as `max_gap`. A process paused for seconds
+/// together with its plant (both nodelets of one manager, or the whole machine) must not take
+/// its own pause for the plant's silence when both resume; a plant that is gone is still found
+/// after the timeout, later only by the capped pauses.
+class SilenceClock {
+ public:
+  /// \brief `max_gap` [s]: the most one interval between two asks counts.
+  explicit SilenceClock(double max_gap) : max_gap_(max_gap) {}
+  /// \brief A state arrived at `now` [s].
+  void heard(double now) {
+    silent_ = 0.0;
+    last_ = now;
+    heard_ = true;
+  }
+  /// \brief The silence [s] as of `now`: 0 before the first state. Ask it at every tick.
+  double silentFor(double now) {
+    if (!heard_) return 0.0;
+    const double gap = now > last_ ? now - last_ : 0.0;
+    silent_ += gap < max_gap_ ? gap : max_gap_;
+    last_ = now;
+    return silent_;
+  }
+
+ private:
+  double max_gap_;
+  double silent_ = 0.0, last_ = 0.0;
+  bool heard_ = false;
+};
+
 /// \brief Sequences a remote plant's states into controller steps.
 ///
 /// States of one publisher arrive in order: a step going back is a new plant run (the

@@ -76,7 +76,9 @@ class MracControllerNode {
   /// command (~stale_policy) of the last valid state, flagged `stale`; then diagnostics.
   void staleTimerCallback(const ros::TimerEvent&);
   /// \brief ~clock realtime: no state at all (valid or not) for ~plant_lost_samples sample
-  /// times: log it once, stop the staleness timer and end the node (kExitRuntimeError).
+  /// times of this node's own running (plant_silence_: a pause of this process counts at
+  /// most a quarter of that): log it once, stop the staleness timer and end the node
+  /// (kExitRuntimeError).
   bool plantLost();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   bool subscribersReady() const;
@@ -114,7 +116,8 @@ class MracControllerNode {
   // lockstep plant that pauses does not make the controller stale, and no ROS clock shared
   // with other runs is involved); realtime in ROS time.
   double latest_stamp_ = 0.0;  ///< lockstep: stamp [s] of the latest state received
-  double last_receipt_ = 0.0;  ///< ROS time [s] the latest admitted state (valid or not) came
+  /// ROS time since the latest admitted state (valid or not), pauses of this process capped
+  SilenceClock plant_silence_;
   /// \brief Now for the staleness check [s]: the latest state's stamp in lockstep, else ROS time.
   double staleNow() const;
   std::int64_t stale_commands_ = 0, rejected_answers_ = 0;
