@@ -23,12 +23,7 @@ scenario:
     - {until: 10.0, scale: 1.0}
 YAML
 
-rosmaster --core -p "$PORT" >"$TMP/master.log" 2>&1 &
-PM=$!
-for _ in $(seq 50); do
-  timeout 5 rosparam list >/dev/null 2>&1 && break
-  sleep 0.2
-done
+start_master
 RC=0
 timeout 120 roslaunch -p "$PORT" preadaptive_mrac scenario.launch scenario:="$SCEN" shape:=nodelet \
   clock:=realtime record:=true bag_dir:="$TMP/bags" >"$TMP/launch.log" 2>&1 &

@@ -56,12 +56,7 @@ while [ "$i" -lt "${#cases[@]}" ]; do
   [ "$L" = compare ] && NS=rac
   # A master of the test's own, the strays on it and seen by it, then the launch (which uses
   # that master): the strays publish before the run starts.
-  rosmaster --core -p "$PORT" >"$TMP/master.log" 2>&1 &
-  PM=$!
-  for _ in $(seq 50); do
-    timeout 5 rosparam list >/dev/null 2>&1 && break
-    sleep 0.2
-  done
+  start_master
   ROS_NAMESPACE=$NS /usr/bin/python3 "$STRAY" __name:=stray_plant _kind:=state _step_log2:=40 \
     _rate:=500 >"$TMP/stray_plant.log" 2>&1 &
   P1=$!

@@ -4,6 +4,7 @@
 #   PORT           a free port for the test's own master (ROS_MASTER_URI, ROS_HOME in TMP), every
 #                  socket on loopback (scripts/lib/ros_env)
 #   check NAME CONDITION...   runs CONDITION, prints "ok: NAME" or "FAIL: NAME" (then FAIL=1)
+#   start_master   a master of the test's own on PORT (its pid in PM), answering when it returns
 # shellcheck source=scripts/lib/ros_env
 source "$ROOT/scripts/lib/ros_env"
 TMP=$(mktemp -d)
@@ -15,4 +16,12 @@ check() {
   local name=$1
   shift
   if "$@"; then echo "ok: $name"; else echo "FAIL: $name"; FAIL=1; fi
+}
+start_master() {
+  rosmaster --core -p "$PORT" >"$TMP/master.log" 2>&1 &
+  PM=$!
+  for _ in $(seq 50); do
+    timeout 5 rosparam list >/dev/null 2>&1 && break
+    sleep 0.2
+  done
 }
