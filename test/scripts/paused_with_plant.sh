@@ -38,7 +38,9 @@ cleanup() {
 trap cleanup EXIT
 # The first state: the run (10 s) has begun; then the manager, plant and controller in it, stops.
 timeout 60 rostopic echo -n 1 /plant/state >/dev/null 2>&1
-MGR=$(pgrep -f "__name:=pmrac_manager" | head -1)
+# This launch's manager (its log under this test's ROS_HOME): other tests' launches may run
+# beside this one (scripts/test's background lane), each with a manager of the same name.
+MGR=$(pgrep -f "__name:=pmrac_manager __log:=$TMP/" | head -1)
 [ -n "$MGR" ] || { echo "FAIL: no nodelet manager"; tail -20 "$TMP/launch.log"; exit 1; }
 sleep 0.6
 kill -STOP "$MGR"
