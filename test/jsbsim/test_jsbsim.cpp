@@ -209,6 +209,39 @@ TEST(Jsbsim, PhysicalFaultsActFromTheirSegment) {
   EXPECT_GT(c.state()[2], 1e-3);
 }
 
+TEST(Jsbsim, PaRobustJudgesARecalledRegimeByItsLoss) {
+  // Regime B (half the elevator's effectiveness, CG aft) for 15 s, C, then B again on the
+  // aircraft's elevator. Back in B, pa_robust recalls B with the loss it identified there. The
+  // detection must judge the data by that model: the plant applies half of every command, the
+  // error feedback's included, and that half missing is what the recalled loss says, not a new
+  // switch. 10 onsets in B's return; judged by theta alone, 40 (and the probe runs on).
+  // The regimes and faults are those of scenario 7 of `preadapt_family --seed 13579 --faults
+  // cg_shift=0:0.1,elevator_effectiveness=0.5:1,pitch_damping=0.3:1 --set plant.engine=jsbsim`.
+  RunConfig cfg = jsbsimConfig();
+  cfg.controller.mode = "pa_robust";
+  cfg.plant.actuator.enabled = true;
+  cfg.plant.actuator.max_deflection = 0.35;
+  cfg.plant.actuator.max_rate = 0.65;
+  Eigen::VectorXd b(3), c(3);
+  b << 0.98086587659952151, 1.4393776866732906, 0.67271468589764405;
+  c << 0.50822849063636055, 0.64599093547125552, 0.88061203539145916;
+  Scenario& s = cfg.scenario;
+  s.theta = {{5.0, Eigen::VectorXd::Constant(3, 0.1)}, {20.0, b}, {35.0, c}, {50.0, b}};
+  s.reference = {{50.0, 0.1}};
+  Scenario::FaultSegment nominal{5.0}, fb{20.0}, fc{35.0}, fb2{50.0};
+  fb.cg_shift = fb2.cg_shift = 0.049084513441438542;
+  fb.elevator_effectiveness = fb2.elevator_effectiveness = 0.52956489156405684;
+  fb.pitch_damping = fb2.pitch_damping = 0.72822428590515498;
+  fc.cg_shift = 0.012012070296213729;
+  fc.elevator_effectiveness = 0.92298403380733318;
+  fc.pitch_damping = 0.51678641327315744;
+  s.faults = {nominal, fb, fc, fb2};
+  const SimResult r = test::simulate(cfg);
+  ASSERT_EQ(r.metrics.windows.size(), 4u);
+  EXPECT_LT(r.metrics.windows[3].onsets, 20);
+  EXPECT_FALSE(r.envelope_exit.exited);
+}
+
 TEST(Jsbsim, LinearisationMatchesConditionNine) {
   const RunConfig cfg = jsbsimConfig();
   JsbsimPlant p(cfg.plant.jsbsim, 0.001, 0.0);

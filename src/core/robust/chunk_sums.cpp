@@ -28,6 +28,16 @@ void ChunkSums::add(const IdentificationWindow& win, int j0, int len, bool with_
   }
 }
 
+void ChunkSums::scale(double f) {
+  G *= f;
+  h *= f;
+  c *= f;
+  loss.hv *= f;
+  loss.yv *= f;
+  loss.vv *= f;
+  loss.v *= f;
+}
+
 double ChunkSums::error(const Vec& th) const {
   return std::max(0.0, c - 2.0 * th.dot(h) + th.dot(G * th));
 }

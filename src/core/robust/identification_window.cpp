@@ -22,6 +22,7 @@ void IdentificationWindow::clear() {
   count_ = 0;
   phi_long_.setZero();
   y_long_ = 0.0;
+  v_long_ = 0.0;
   since_refresh_ = 0;
 }
 
@@ -29,6 +30,7 @@ void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat, 
   if (long_ > 0 && count_ >= long_) {  // the sample leaving the long window
     subtractFrom(phi_[static_cast<size_t>(at(long_ - 1))], &phi_long_);
     y_long_ -= y_[static_cast<size_t>(at(long_ - 1))];
+    v_long_ -= v_[static_cast<size_t>(at(long_ - 1))];
   }
   head_ = (head_ + 1) % cap_;
   copyTo(phi, &phi_[static_cast<size_t>(head_)]);
@@ -39,9 +41,11 @@ void IdentificationWindow::push(const Vec& phi, double y, const Vec& theta_hat, 
   if (long_ > 0) {
     addTo(phi, &phi_long_);
     y_long_ += y;
+    v_long_ += v;
     // Rounding builds up in running sums: sum the window afresh every so often.
     if (++since_refresh_ >= 64 * long_ && count_ >= long_) {
       sums(0, long_, &phi_long_, &y_long_);
+      v_long_ = vSum(0, long_);
       since_refresh_ = 0;
     }
   }

@@ -56,6 +56,8 @@ void RobustPreadaptation::sizeWindows() {
   long_samples_ = robust_.long_window > 0.0
                       ? std::max(detect_samples_, samplesOf(robust_.long_window, dt_))
                       : 0;
+  // Each chunk's weight on the regime's fit falls by this factor per chunk after it.
+  forget_ = robust_.forget_time > 0.0 ? std::exp(-chunk_samples_ * dt_ / robust_.forget_time) : 1.0;
   ring_capacity_ =
       std::max({2 * detect_samples_, verify_samples_ + 2 * detect_samples_, 2 * long_samples_}) + 2;
 }
@@ -138,6 +140,18 @@ DetectionSettings RobustPreadaptation::detectionSettings() const {
   return set;
 }
 
+double RobustPreadaptation::residualOf(const Vec& theta_hat, const Vec& phi, double y,
+                                       double v) const {
+  const double r = y - dotOf(theta_hat, phi);
+  // A regime recalled with its loss: what the plant did not apply of the error feedback, the
+  // probing and the rest of the command is the model in force, not a mismatch to detect.
+  return nu_regime_ > 0.0 ? r - nu_regime_ * (v - dotOf(theta_hat, phi)) : r;
+}
+
+double RobustPreadaptation::lossV(int j0, int len) const {
+  return nu_regime_ > 0.0 ? window_.vSum(j0, len) : 0.0;
+}
+
 double RobustPreadaptation::triggerThreshold() const {
   return shortThreshold(detectionSettings(), noiseLevel());
 }
@@ -180,7 +194,7 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   double y = 0.0;
   window_.sums(0, detect_samples_, &phi, &y);
   Residuals rho;
-  rho.detect = residual_ = (y - dotOf(theta_hat, phi)) / window_time;
+  rho.detect = residual_ = residualOf(theta_hat, phi, y, lossV(0, detect_samples_)) / window_time;
   const DetectionSettings set = detectionSettings();
   DetectionClock clock;
   clock.since_onset = k_ - last_trigger_k_;
@@ -193,11 +207,12 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
   // The window before and the long window: summed only when they are read.
   if (clock.noise_due && !verifying_) {
     window_.sums(detect_samples_, detect_samples_, &phi, &y);
-    rho.previous = (y - dotOf(theta_hat, phi)) / window_time;
+    rho.previous =
+        residualOf(theta_hat, phi, y, lossV(detect_samples_, detect_samples_)) / window_time;
   }
   if (longWindowDue(set, clock)) {
-    long_residual_ =
-        (window_.yLong() - dotOf(theta_hat, window_.phiLong())) / (long_samples_ * dt_);
+    long_residual_ = residualOf(theta_hat, window_.phiLong(), window_.yLong(), window_.vLong()) /
+                     (long_samples_ * dt_);
     rho.long_window = long_residual_;
   }
   const DetectionResult det = detectSwitch(rho, noise_, clock, quiet_count_, set);
@@ -221,14 +236,14 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   double S = 0.0, best = 0.0;
   for (int j = 0; j < span; ++j) {
     const int i = window_.at(j);
-    S += sgn * (window_.y(i) - theta_hat->dot(window_.phi(i)));
+    S += sgn * residualOf(*theta_hat, window_.phi(i), window_.y(i), window_.v(i));
     best = std::max(best, S);
   }
   int m = span;
   S = 0.0;
   for (int j = 0; j < span; ++j) {
     const int i = window_.at(j);
-    S += sgn * (window_.y(i) - theta_hat->dot(window_.phi(i)));
+    S += sgn * residualOf(*theta_hat, window_.phi(i), window_.y(i), window_.v(i));
     if (S >= 0.9 * best) {
       m = j + 1;
       break;
@@ -253,7 +268,10 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   loss_.restart(-1);
 
   // Probe the elevator while this regime is identified, not in the steady flight after it.
-  if (robust_.excitation_time > 0.0) excite_until_ = s.t + robust_.excitation_time;
+  // An onset while it runs does not extend it: a regime whose probing itself shows in the
+  // residual (an elevator less effective than the model's) would otherwise be probed for good.
+  if (robust_.excitation_time > 0.0 && !(s.t < excite_until_))
+    excite_until_ = s.t + robust_.excitation_time;
   if (robust_.feedback_time > 0.0) feedback_until_ = s.t + robust_.feedback_time;
   z_onset_ << s.e, std::abs(s.e_dot);
   if (robust_.use_network) net_->forward(z_onset_, &theta_net_);
@@ -314,10 +332,33 @@ double RobustPreadaptation::chunkSigma() const {
 bool RobustPreadaptation::refine(Vec* theta_hat) {
   if (!regime_fit_ || verifying_ || k_ < next_chunk_k_) return false;
   next_chunk_k_ += chunk_samples_;
-  regime_.add(window_, 0, chunk_samples_, nu_regime_ > 0.0);
   // With a loss nu the data reads y = (1 - nu) th^T phi + nu (theta_rec^T phi + ...) for the
   // loop's fixed point th: the fit aims at th through (Y - nu v) / (1 - nu).
   const double nu = nu_regime_;
+  // The recent data: the last long window (or what the regime has of it so far).
+  const int len = static_cast<int>(
+      std::min<std::int64_t>({static_cast<std::int64_t>(long_samples_), k_ - post_start_k_ + 1,
+                              static_cast<std::int64_t>(window_.count())}));
+  Vec phi;
+  double y = 0.0;
+  if (len > 0) {
+    if (len == long_samples_ && window_.count() >= long_samples_) {
+      // The whole long window: its running sums (push()), not a fresh sum of long_samples_
+      // samples every chunk (that sum would be a sixth of pa_robust's instructions).
+      phi = window_.phiLong();
+      y = window_.yLong();
+    } else {
+      window_.sums(0, len, &phi, &y);
+    }
+    if (nu > 0.0) y = (y - nu * window_.vSum(0, len)) / (1.0 - nu);
+  }
+  const double significant = std::sqrt(robust_.significance) * chunkSigma();
+  const double r0 = len > 0 ? y - theta_hat->dot(phi) : 0.0;
+  // A regime that drifts (the trim moving with the airspeed): while the recent data disagrees
+  // with the estimate beyond noise, older chunks weigh less, so the estimate follows instead
+  // of the drift being detected again and again as a switch. A steady regime keeps them all.
+  if (robust_.forget_time > 0.0 && std::abs(r0) > significant) regime_.scale(forget_);
+  regime_.add(window_, 0, chunk_samples_, nu > 0.0);
   // Bayesian least squares of the regime's data around the prior (the decision's estimate):
   // excited directions follow the data, unexcited ones stay at the prior.
   const Vec fit = ridgeFit(regime_.G, regime_.hFixed(nu), prior_, chunkSigma(), robust_.prior_std,
@@ -328,28 +369,11 @@ bool RobustPreadaptation::refine(Vec* theta_hat) {
   // window worse than it did, beyond noise. The regime's fit also carries the data since the
   // change and its prior; along the direction the plant shows now, the recent data is the
   // better judge (on a steady state a drift along it builds an error that rac would not have).
-  const int len = static_cast<int>(
-      std::min<std::int64_t>({static_cast<std::int64_t>(long_samples_), k_ - post_start_k_ + 1,
-                              static_cast<std::int64_t>(window_.count())}));
-  if (len > 0) {
-    Vec phi;
-    double y = 0.0;
-    if (len == long_samples_ && window_.count() >= long_samples_) {
-      // The whole long window: its running sums (push()), not a fresh sum of long_samples_
-      // samples every chunk (that sum would be a sixth of pa_robust's instructions).
-      phi = window_.phiLong();
-      y = window_.yLong();
-    } else {
-      window_.sums(0, len, &phi, &y);
-    }
-    if (nu > 0.0) y = (y - nu * window_.vSum(0, len)) / (1.0 - nu);
-    const double pp = phi.squaredNorm();
-    if (pp > 0.0) {
-      const double r0 = y - theta_hat->dot(phi);
-      const double r1 = y - next.dot(phi);
-      const double allowed = std::max(std::abs(r0), std::sqrt(robust_.significance) * chunkSigma());
-      if (std::abs(r1) > allowed) next += phi * ((r1 - (r1 > 0.0 ? allowed : -allowed)) / pp);
-    }
+  const double pp = len > 0 ? phi.squaredNorm() : 0.0;
+  if (pp > 0.0) {
+    const double r1 = y - next.dot(phi);
+    const double allowed = std::max(std::abs(r0), significant);
+    if (std::abs(r1) > allowed) next += phi * ((r1 - (r1 > 0.0 ? allowed : -allowed)) / pp);
   }
   *theta_hat = next;
   return true;

@@ -151,7 +151,7 @@ TEST(Tunables, DiffNamesTheChangedKeys) {
   EXPECT_EQ(d[0].old_value, a.c_ed);
   EXPECT_EQ(d[0].new_value, 0.05);
   EXPECT_EQ(d[1].key, "robust.use_network");
-  EXPECT_EQ(tunableEntries(a).size(), 31u);
+  EXPECT_EQ(tunableEntries(a).size(), 32u);
 }
 
 TEST(Tunables, ThresholdChangeIsNoCrossing) {

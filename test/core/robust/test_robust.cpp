@@ -471,3 +471,38 @@ TEST(Robust, RememberedLossCutsTheReturnPeak) {
   EXPECT_LT(a.metrics.windows[4].peak_abs_e, 0.7 * b.metrics.windows[4].peak_abs_e)
       << a.metrics.windows[4].peak_abs_e << " " << b.metrics.windows[4].peak_abs_e;
 }
+
+TEST(Robust, ADriftingTrimIsFollowedNotDetectedAgain) {
+  // From 10 s to 30 s theta's first entry falls by 0.008 per second in 0.1 s steps, each far
+  // below the threshold: the trim the elevator must hold moves by about 2 mrad a second, as at
+  // held throttle while the airspeed bleeds. With the regime's fit forgetting while the recent
+  // data disagrees with it, the estimate follows: no onset after the first switch. Without
+  // (forget_time 0) the fit keeps the old data, falls behind, and the drift is detected as a
+  // switch every few seconds (7 onsets), each one probing the elevator again.
+  RunConfig cfg = robustConfig();
+  Scenario& s = cfg.scenario;
+  s.theta.clear();
+  s.theta.push_back({5.0, Vec::Constant(3, 0.1)});
+  s.theta.push_back({10.0, Vec::Constant(3, 1.0)});
+  double th0 = 1.0;
+  for (int k = 1; k <= 200; ++k) {
+    th0 -= 0.0008;
+    s.theta.push_back({10.0 + 0.1 * k, vec3(th0, 1.0, 1.0)});
+  }
+  s.theta.push_back({40.0, vec3(th0, 1.0, 1.0)});
+  s.reference = {{40.0, 0.1}};
+  const auto onsetsAfter = [](const SimResult& r, double t) {
+    int n = 0;
+    for (const Event& e : r.events) n += e.type == Event::Type::kOnset && e.t > t;
+    return n;
+  };
+  Controller follows(designModelOf(cfg.plant, cfg.controller), cfg.controller);
+  const SimResult a = run(cfg, &follows);
+  cfg.controller.robust.forget_time = 0.0;
+  Controller keeps(designModelOf(cfg.plant, cfg.controller), cfg.controller);
+  const SimResult b = run(cfg, &keeps);
+  EXPECT_EQ(onsetsAfter(a, 10.0), 0);
+  EXPECT_GE(onsetsAfter(b, 10.0), 4);
+  EXPECT_LT(a.metrics.iae, 0.7 * b.metrics.iae) << a.metrics.iae << " " << b.metrics.iae;
+  EXPECT_LT(a.metrics.effort.steady_tv, 0.5 * b.metrics.effort.steady_tv);
+}

@@ -30,6 +30,8 @@ struct ChunkSums {
   void clear(Eigen::Index n);
   /// \brief Add the chunk of `len` samples from j0 ago; its loss sums too when `with_loss`.
   void add(const IdentificationWindow& win, int j0, int len, bool with_loss);
+  /// \brief Weigh every sum so far by f (in (0, 1]: older data counts less).
+  void scale(double f);
   /// \brief The identification error J(th) (>= 0).
   double error(const Vec& th) const;
   /// \brief The error of the loop's fixed point th under a loss nu, with the data read as

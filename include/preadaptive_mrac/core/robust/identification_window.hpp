@@ -33,13 +33,15 @@ class IdentificationWindow {
   /// \brief Running sums over the newest long_len samples.
   const Vec& phiLong() const { return phi_long_; }
   double yLong() const { return y_long_; }
+  double vLong() const { return v_long_; }
+  double v(int i) const { return v_[static_cast<size_t>(i)]; }
 
  private:
   std::vector<Vec> phi_, th_;
   std::vector<double> y_, v_;
   int head_ = -1, count_ = 0, cap_ = 1, long_ = 0;
   Vec phi_long_;
-  double y_long_ = 0.0;
+  double y_long_ = 0.0, v_long_ = 0.0;
   int since_refresh_ = 0;
 };
 

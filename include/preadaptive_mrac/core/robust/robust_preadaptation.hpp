@@ -102,6 +102,12 @@ class RobustPreadaptation : public PreadaptationStrategy {
   double entryLoss(const RegimeEntry& e) const;
   /// \brief Half-period of the excitation that time t falls in.
   std::int64_t excitationHalf(double t) const;
+  /// \brief The residual y - th^T phi of summed data under the model in force: with the
+  /// regime's loss nu the plant applies 1 - nu of each command, so the data reads
+  /// y = (1 - nu) th^T phi + nu v (v the sum of the loss regressor).
+  double residualOf(const Vec& theta_hat, const Vec& phi, double y, double v) const;
+  /// \brief The sum of v over `len` samples from j0 ago, read only under a loss (else 0).
+  double lossV(int j0, int len) const;
   /// \brief Noise standard deviation of one chunk sum [rad s].
   double chunkSigma() const;
   RegimeMemory memory();
@@ -145,6 +151,7 @@ class RobustPreadaptation : public PreadaptationStrategy {
   Vec prior_;
   std::int64_t next_chunk_k_ = 0;
   double nu_regime_ = 0.0, nu_decided_ = 0.0;
+  double forget_ = 1.0;  ///< per chunk, from forget_time (1: no forgetting)
   LossEstimate loss_;
   double t_prev_ = 0.0;
   double excite_until_ = 0.0;    ///< the excitation runs before this time (excitation_time > 0)
