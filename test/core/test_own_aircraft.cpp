@@ -98,10 +98,10 @@ TEST(OwnAircraft, NavionAttentionFiresAndRobustBeatsRac) {
 }
 
 TEST(OwnAircraft, MinDwellSpacesTheOnsetsOfALowRobustThreshold) {
-  // Lowered to 0.2 mrad, pa_robust's threshold lies under what its residual keeps on this
-  // aircraft: it triggers again and again (more than a hundred onsets in 60 s; 143 at the
+  // Lowered to 0.05 mrad, pa_robust's threshold lies under what its residual keeps on this
+  // aircraft: it triggers again and again (more than a hundred onsets in 60 s; 197 at the
   // defaults, docs/tutorials/own_aircraft.md).
-  const std::vector<std::string> low = {"controller.robust.threshold=0.0002"};
+  const std::vector<std::string> low = {"controller.robust.threshold=0.00005"};
   std::vector<std::string> dwell = low;
   dwell.push_back("controller.robust.min_dwell=1.0");
   const SimResult chatter = test::simulate(navion("pa_robust", low));
@@ -121,10 +121,9 @@ TEST(OwnAircraft, MinDwellSpacesTheOnsetsOfALowRobustThreshold) {
 
 TEST(OwnAircraft, TheProbeDoesNotKeepItselfGoing) {
   // At a threshold of 0.5 mrad the square wave pa_robust probes the elevator with shows in its
-  // own residual on this aircraft (its elevator is not the B-747's). An onset while the probe
-  // runs does not extend it, so the probe ends 3 s after the onset that started it: 32 onsets
-  // and 0.04 rad of steady-flight elevator travel. Extended by every onset, the probe kept
-  // itself going: 170 onsets, 0.72 rad.
+  // own residual on this aircraft as a switch. An onset while the probe runs ends it: 9 onsets
+  // and 0.03 rad of steady-flight elevator travel. Renewed by every onset, the probe kept itself
+  // going: 170 onsets, 0.72 rad.
   const SimResult r = test::simulate(navion("pa_robust", {"controller.robust.threshold=0.0005"}));
   EXPECT_LT(count(r, Event::Type::kOnset), 60);
   EXPECT_LT(r.metrics.effort.steady_tv, 0.2);

@@ -268,10 +268,11 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   loss_.restart(-1);
 
   // Probe the elevator while this regime is identified, not in the steady flight after it.
-  // An onset while it runs does not extend it: a regime whose probing itself shows in the
-  // residual (an elevator less effective than the model's) would otherwise be probed for good.
-  if (robust_.excitation_time > 0.0 && !(s.t < excite_until_))
-    excite_until_ = s.t + robust_.excitation_time;
+  // An onset while the probe runs ends it: either the regime is still changing (no clean loss
+  // fit) or the probe itself shows in the residual as a switch (an elevator far more or less
+  // effective than the model's), and a probe that each onset renewed would run for good.
+  if (robust_.excitation_time > 0.0)
+    excite_until_ = s.t < excite_until_ ? s.t : s.t + robust_.excitation_time;
   if (robust_.feedback_time > 0.0) feedback_until_ = s.t + robust_.feedback_time;
   z_onset_ << s.e, std::abs(s.e_dot);
   if (robust_.use_network) net_->forward(z_onset_, &theta_net_);
