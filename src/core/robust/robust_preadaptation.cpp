@@ -142,10 +142,11 @@ DetectionSettings RobustPreadaptation::detectionSettings() const {
 
 double RobustPreadaptation::residualOf(const Vec& theta_hat, const Vec& phi, double y,
                                        double v) const {
-  const double r = y - dotOf(theta_hat, phi);
+  const double predicted = dotOf(theta_hat, phi);
+  const double r = y - predicted;
   // A regime recalled with its loss: what the plant did not apply of the error feedback, the
   // probing and the rest of the command is the model in force, not a mismatch to detect.
-  return nu_regime_ > 0.0 ? r - nu_regime_ * (v - dotOf(theta_hat, phi)) : r;
+  return nu_regime_ > 0.0 ? r - nu_regime_ * (v - predicted) : r;
 }
 
 double RobustPreadaptation::lossV(int j0, int len) const {
