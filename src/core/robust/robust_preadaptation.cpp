@@ -60,6 +60,7 @@ void RobustPreadaptation::sizeWindows() {
   forget_ = robust_.forget_time > 0.0 ? std::exp(-chunk_samples_ * dt_ / robust_.forget_time) : 1.0;
   ring_capacity_ =
       std::max({2 * detect_samples_, verify_samples_ + 2 * detect_samples_, 2 * long_samples_}) + 2;
+  cumulative_.assign(static_cast<size_t>(ring_capacity_), 0.0);
 }
 
 bool RobustPreadaptation::setTunables(const ControllerParams& cfg, const RobustParams& robust) {
@@ -225,8 +226,8 @@ Detection RobustPreadaptation::detect(const Sample& s, const Vec& theta_hat, Att
 
 void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   // Where did the mismatch begin? The cumulative residual from the newest sample back grows
-  // while the data is post-change and stays flat before: take the shortest span holding 90 %
-  // of its largest excursion in the direction of the residual.
+  // while the data is post-change and hardly before (change_point: the kink of its
+  // least-squares fit, or the shortest span holding 90 % of its largest excursion).
   const int span =
       long_trigger_
           ? static_cast<int>(std::min<std::int64_t>({static_cast<std::int64_t>(window_.count()),
@@ -234,23 +235,15 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
           : std::min(window_.count(), std::max(2 * detect_samples_, 2));
   const double rho = long_trigger_ ? long_residual_ : residual_;
   const double sgn = rho >= 0.0 ? 1.0 : -1.0;
-  double S = 0.0, best = 0.0;
+  double S = 0.0;
   for (int j = 0; j < span; ++j) {
     const int i = window_.at(j);
     S += sgn * residualOf(*theta_hat, window_.phi(i), window_.y(i), window_.v(i));
-    best = std::max(best, S);
+    cumulative_[static_cast<size_t>(j)] = S;
   }
-  int m = span;
-  S = 0.0;
-  for (int j = 0; j < span; ++j) {
-    const int i = window_.at(j);
-    S += sgn * residualOf(*theta_hat, window_.phi(i), window_.y(i), window_.v(i));
-    if (S >= 0.9 * best) {
-      m = j + 1;
-      break;
-    }
-  }
-  m = std::max(m, std::min(2, span));
+  const int m = robust_.change_point == ChangePoint::kFit
+                    ? kinkChangePoint(cumulative_.data(), span)
+                    : excursionChangePoint(cumulative_.data(), span);
   post_start_k_ = k_ - m + 1;
   // The estimate of the regime just left: theta_hat before the change.
   theta_keep_ = m < window_.count() ? window_.theta(window_.at(m)) : *theta_hat;

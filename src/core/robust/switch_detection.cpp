@@ -65,4 +65,59 @@ DetectionResult detectSwitch(const Residuals& rho, const NoiseEstimate& noise,
   return r;
 }
 
+int excursionChangePoint(const double* S, int n) {
+  double best = 0.0;
+  for (int j = 0; j < n; ++j) best = std::max(best, S[j]);
+  int m = n;
+  for (int j = 0; j < n; ++j)
+    if (S[j] >= 0.9 * best) {
+      m = j + 1;
+      break;
+    }
+  return std::max(m, std::min(2, n));
+}
+
+int kinkChangePoint(const double* S, int n) {
+  if (n < 8) return excursionChangePoint(S, n);
+  // Points J = 0..n, S_0 = 0 (no sample yet), so a change one sample ago shows as a kink too.
+  // The line c + a J first; the kink's regressor g_J = (J - m)+ is then judged by what it adds
+  // to it (Frisch-Waugh): b = g^T S_perp / |g_perp|^2, and the residual sum of squares falls by
+  // (g^T S_perp)^2 / |g_perp|^2, with S_perp = S - line and g_perp = g less its own line. The
+  // sums of g, g^2 and J g have closed forms; those of S_perp and J S_perp beyond m are summed
+  // from the oldest sample back, so the search is one pass.
+  const double N = n + 1.0, s1 = 0.5 * n * (n + 1.0), s2 = n * (n + 1.0) * (2.0 * n + 1.0) / 6.0;
+  double sy = 0.0, sjy = 0.0, syy = 0.0;
+  for (int J = 1; J <= n; ++J) {
+    sy += S[J - 1];
+    sjy += J * S[J - 1];
+    syy += S[J - 1] * S[J - 1];
+  }
+  const double det = N * s2 - s1 * s1;
+  const double a = (N * sjy - s1 * sy) / det, c = (sy - a * s1) / N;
+  double t0 = 0.0, t1 = 0.0;  // sums of S_perp and J S_perp over J > m
+  // A kink must explain more than rounding does (a residual that grows alike everywhere has none).
+  double best_gain = 1e-12 * syy;
+  int best = -1;
+  for (int m = n - 1; m >= 1; --m) {
+    const double sp = S[m] - (c + a * (m + 1));  // J = m + 1 joins the sums beyond m
+    t0 += sp;
+    t1 += (m + 1) * sp;
+    if (m > n - 2) continue;
+    const double L = n - m;
+    const double g1 = 0.5 * L * (L + 1.0), g2 = L * (L + 1.0) * (2.0 * L + 1.0) / 6.0;
+    const double jg = m * g1 + g2;
+    // |g_perp|^2 = g^T g - [g1 jg] (X^T X)^-1 [g1 jg]^T, X = [1 J].
+    const double gg = g2 - (s2 * g1 * g1 - 2.0 * s1 * g1 * jg + N * jg * jg) / det;
+    if (!(gg > 0.0)) continue;
+    const double gs = t1 - m * t0;
+    if (!(gs < 0.0)) continue;  // the newest samples must grow faster than those before
+    const double gain = gs * gs / gg;
+    if (gain > best_gain) {
+      best_gain = gain;
+      best = m;
+    }
+  }
+  return best < 0 ? excursionChangePoint(S, n) : std::max(best, 2);
+}
+
 }  // namespace preadaptive_mrac

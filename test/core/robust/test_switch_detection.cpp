@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "preadaptive_mrac/core/robust/switch_detection.hpp"
 
@@ -187,4 +188,69 @@ TEST(SwitchDetection, WhileVerifyingOnlyDecisionsAndTheNoiseEstimatePauses) {
   c.decision_due = true;
   EXPECT_EQ(detectSwitch(rho, noise, c, 0, s).kind, Detection::kDecision);
   EXPECT_FALSE(longWindowDue(s, c));
+}
+
+namespace {
+// The cumulative residual an onset sees, newest sample first: a mismatch of `step` per sample
+// for the `m` newest samples, a bias of `bias` per sample before, and the telescoped endpoint
+// noise: S_J = sum of the J newest residuals = signal + eta_0 - eta_J.
+std::vector<double> cumulativeResidual(int n, int m, double step, double bias, double sigma,
+                                       unsigned seed) {
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> eta(0.0, sigma);
+  std::vector<double> e(static_cast<size_t>(n) + 1);
+  for (double& v : e) v = eta(gen);
+  std::vector<double> S(static_cast<size_t>(n));
+  for (int J = 1; J <= n; ++J)
+    S[static_cast<size_t>(J - 1)] =
+        step * std::min(J, m) + bias * std::max(0, J - m) + e[0] - e[static_cast<size_t>(J)];
+  return S;
+}
+}  // namespace
+
+TEST(ChangePoint, BothRulesFindACleanChange) {
+  // Without noise the kink is exact; the excursion rule leaves out up to a tenth of the change.
+  const std::vector<double> S = cumulativeResidual(400, 40, 2.5e-5, 0.0, 0.0, 1);
+  EXPECT_EQ(kinkChangePoint(S.data(), 400), 40);
+  EXPECT_EQ(excursionChangePoint(S.data(), 400), 36);
+  // A jump in the newest sample alone (a large switch the short window sees at once): at least
+  // two samples, as the excursion rule takes, not a kink far back in what came before.
+  std::vector<double> jump = cumulativeResidual(400, 1, 3e-4, 0.0, 0.0, 1);
+  for (int J = 2; J <= 400; ++J) jump[static_cast<size_t>(J - 1)] += 1e-8 * std::sin(0.05 * J);
+  EXPECT_EQ(kinkChangePoint(jump.data(), 400), 2);
+}
+
+TEST(ChangePoint, TheKinkFindsTheChangeInEndpointNoise) {
+  // The long window's case (pa_robust at 0.1 mrad noise): 36 post-change samples of a 25 mrad
+  // mismatch (2.5e-5 per 1 ms sample) among 400, endpoint noise 1.3e-4 (the whole change is
+  // 7 such). The largest excursion holds the noise's peak as well, so 90 % of it lies before
+  // the change in most draws; the kink stays near it.
+  int kink_near = 0, excursion_near = 0, excursion_early = 0;
+  for (unsigned seed = 1; seed <= 200; ++seed) {
+    const std::vector<double> S = cumulativeResidual(400, 36, 2.5e-5, 0.0, 1.3e-4, seed);
+    const int kink = kinkChangePoint(S.data(), 400), exc = excursionChangePoint(S.data(), 400);
+    kink_near += std::abs(kink - 36) <= 12;
+    excursion_near += std::abs(exc - 36) <= 12;
+    excursion_early += exc > 80;
+  }
+  EXPECT_GE(kink_near, 180);
+  EXPECT_LE(excursion_near, 100);
+  EXPECT_GE(excursion_early, 50);
+}
+
+TEST(ChangePoint, TheKinkAllowsTheOldEstimatesBias) {
+  // Before the change the old estimate explained the data only nearly: a small slope of its own.
+  const std::vector<double> S = cumulativeResidual(400, 50, 2.0e-5, 2.0e-6, 0.0, 1);
+  EXPECT_EQ(kinkChangePoint(S.data(), 400), 50);
+}
+
+TEST(ChangePoint, NoKinkOrTooFewSamplesFallsBackToTheExcursion) {
+  // A residual that grows alike everywhere has no change point in it; fewer than 8 samples
+  // cannot show a kink: both take the excursion rule's answer.
+  std::vector<double> S(100);
+  for (int J = 1; J <= 100; ++J) S[static_cast<size_t>(J - 1)] = 1e-5 * J;
+  EXPECT_EQ(kinkChangePoint(S.data(), 100), excursionChangePoint(S.data(), 100));
+  const std::vector<double> few = {1e-5, 2e-5, 3e-5, 3e-5, 3e-5};
+  EXPECT_EQ(kinkChangePoint(few.data(), 5), excursionChangePoint(few.data(), 5));
+  EXPECT_EQ(excursionChangePoint(few.data(), 5), 3);
 }

@@ -126,9 +126,10 @@ class RobustPreadaptation : public PreadaptationStrategy {
   // settle_time, long_window (0: none), min_dwell; and the ring's capacity.
   int detect_samples_ = 1, chunk_samples_ = 1, verify_samples_ = 1, quiet_samples_ = 1;
   int settle_samples_ = 1, long_samples_ = 0, dwell_samples_ = 0, ring_capacity_ = 0;
-  IdentificationWindow window_;  // the data: ring and long-window sums
-  double long_residual_ = 0.0;   ///< over the long window when it was last due [rad]
-  bool long_trigger_ = false;    ///< the last onset came from the long window
+  IdentificationWindow window_;     // the data: ring and long-window sums
+  double long_residual_ = 0.0;      ///< over the long window when it was last due [rad]
+  bool long_trigger_ = false;       ///< the last onset came from the long window
+  std::vector<double> cumulative_;  ///< the onset's cumulative residual (ring_capacity_ long)
   std::int64_t k_ = 0;
   bool have_prev_ = false;
   Vec x_prev_;

@@ -98,4 +98,19 @@ struct DetectionResult {
 DetectionResult detectSwitch(const Residuals& rho, const NoiseEstimate& noise,
                              const DetectionClock& c, int quiet, const DetectionSettings& s);
 
+/// \brief Where a mismatch began, by the shortest span holding 90 % of the cumulative residual's
+/// largest excursion. `S[J - 1]` is the sum of the J newest residuals (J = 1..n), signed so that
+/// the trigger's direction is positive. Returns m, the newest samples taken as post-change (at
+/// least min(2, n)). Exact without noise up to the 10 % it leaves out; in noise the largest
+/// excursion holds the endpoint noise's peak, so 90 % of it can lie far before the change.
+int excursionChangePoint(const double* S, int n);
+
+/// \brief Where a mismatch began, by least squares: the cumulative residual of a mismatch that
+/// began m samples ago grows with one slope since then and another before (the old estimate's
+/// own small bias), plus endpoint noise, which is the same at every J (the sums telescope):
+/// S_J = c + a J + b (J - m)+, with S_0 = 0. Returns the m in [1, n - 2] whose kink explains S
+/// best with the newest samples growing faster than those before (b < 0), at least 2; n < 8 or
+/// no such kink: excursionChangePoint().
+int kinkChangePoint(const double* S, int n);
+
 }  // namespace preadaptive_mrac
