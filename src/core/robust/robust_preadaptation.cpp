@@ -241,8 +241,11 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
     S += sgn * residualOf(*theta_hat, window_.phi(i), window_.y(i), window_.v(i));
     cumulative_[static_cast<size_t>(j)] = S;
   }
+  // The noise of one sum about its mean is one endpoint's: chunkSigma() is two endpoints'.
+  const double endpoint = chunkSigma() / std::sqrt(2.0);
   const int m = robust_.change_point == ChangePoint::kFit
-                    ? kinkChangePoint(cumulative_.data(), span)
+                    ? kinkChangePoint(cumulative_.data(), span,
+                                      robust_.significance * endpoint * endpoint)
                     : excursionChangePoint(cumulative_.data(), span);
   post_start_k_ = k_ - m + 1;
   // The estimate of the regime just left: theta_hat before the change.

@@ -77,7 +77,7 @@ int excursionChangePoint(const double* S, int n) {
   return std::max(m, std::min(2, n));
 }
 
-int kinkChangePoint(const double* S, int n) {
+int kinkChangePoint(const double* S, int n, double min_gain) {
   if (n < 8) return excursionChangePoint(S, n);
   // Points J = 0..n, S_0 = 0 (no sample yet), so a change one sample ago shows as a kink too.
   // The line c + a J first; the kink's regressor g_J = (J - m)+ is then judged by what it adds
@@ -95,8 +95,8 @@ int kinkChangePoint(const double* S, int n) {
   const double det = N * s2 - s1 * s1;
   const double a = (N * sjy - s1 * sy) / det, c = (sy - a * s1) / N;
   double t0 = 0.0, t1 = 0.0;  // sums of S_perp and J S_perp over J > m
-  // A kink must explain more than rounding does (a residual that grows alike everywhere has none).
-  double best_gain = 1e-12 * syy;
+  // A kink must explain more than noise (and rounding) does.
+  double best_gain = std::max(min_gain, 1e-12 * syy);
   int best = -1;
   for (int m = n - 1; m >= 1; --m) {
     const double sp = S[m] - (c + a * (m + 1));  // J = m + 1 joins the sums beyond m
@@ -117,7 +117,7 @@ int kinkChangePoint(const double* S, int n) {
       best = m;
     }
   }
-  return best < 0 ? excursionChangePoint(S, n) : std::max(best, 2);
+  return best < 0 ? n : std::max(best, 2);
 }
 
 }  // namespace preadaptive_mrac

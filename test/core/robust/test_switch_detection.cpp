@@ -211,13 +211,13 @@ std::vector<double> cumulativeResidual(int n, int m, double step, double bias, d
 TEST(ChangePoint, BothRulesFindACleanChange) {
   // Without noise the kink is exact; the excursion rule leaves out up to a tenth of the change.
   const std::vector<double> S = cumulativeResidual(400, 40, 2.5e-5, 0.0, 0.0, 1);
-  EXPECT_EQ(kinkChangePoint(S.data(), 400), 40);
+  EXPECT_EQ(kinkChangePoint(S.data(), 400, 0.0), 40);
   EXPECT_EQ(excursionChangePoint(S.data(), 400), 36);
   // A jump in the newest sample alone (a large switch the short window sees at once): at least
   // two samples, as the excursion rule takes, not a kink far back in what came before.
   std::vector<double> jump = cumulativeResidual(400, 1, 3e-4, 0.0, 0.0, 1);
   for (int J = 2; J <= 400; ++J) jump[static_cast<size_t>(J - 1)] += 1e-8 * std::sin(0.05 * J);
-  EXPECT_EQ(kinkChangePoint(jump.data(), 400), 2);
+  EXPECT_EQ(kinkChangePoint(jump.data(), 400, 0.0), 2);
 }
 
 TEST(ChangePoint, TheKinkFindsTheChangeInEndpointNoise) {
@@ -228,7 +228,8 @@ TEST(ChangePoint, TheKinkFindsTheChangeInEndpointNoise) {
   int kink_near = 0, excursion_near = 0, excursion_early = 0;
   for (unsigned seed = 1; seed <= 200; ++seed) {
     const std::vector<double> S = cumulativeResidual(400, 36, 2.5e-5, 0.0, 1.3e-4, seed);
-    const int kink = kinkChangePoint(S.data(), 400), exc = excursionChangePoint(S.data(), 400);
+    const int kink = kinkChangePoint(S.data(), 400, 9.0 * 1.3e-4 * 1.3e-4);
+    const int exc = excursionChangePoint(S.data(), 400);
     kink_near += std::abs(kink - 36) <= 12;
     excursion_near += std::abs(exc - 36) <= 12;
     excursion_early += exc > 80;
@@ -241,16 +242,30 @@ TEST(ChangePoint, TheKinkFindsTheChangeInEndpointNoise) {
 TEST(ChangePoint, TheKinkAllowsTheOldEstimatesBias) {
   // Before the change the old estimate explained the data only nearly: a small slope of its own.
   const std::vector<double> S = cumulativeResidual(400, 50, 2.0e-5, 2.0e-6, 0.0, 1);
-  EXPECT_EQ(kinkChangePoint(S.data(), 400), 50);
+  EXPECT_EQ(kinkChangePoint(S.data(), 400, 0.0), 50);
 }
 
-TEST(ChangePoint, NoKinkOrTooFewSamplesFallsBackToTheExcursion) {
-  // A residual that grows alike everywhere has no change point in it; fewer than 8 samples
-  // cannot show a kink: both take the excursion rule's answer.
-  std::vector<double> S(100);
-  for (int J = 1; J <= 100; ++J) S[static_cast<size_t>(J - 1)] = 1e-5 * J;
-  EXPECT_EQ(kinkChangePoint(S.data(), 100), excursionChangePoint(S.data(), 100));
+TEST(ChangePoint, NoKinkBeyondNoiseIsAWholeSpanAfterTheChange) {
+  // A mismatch that began before the span (a long-window trigger late after a small switch):
+  // the residual grows alike at every J, with endpoint noise; no kink explains more than the
+  // noise does, so the whole span is post-change. Without the noise bound a kink fitted to the
+  // noise would keep a few samples only.
+  int whole = 0, without_bound_short = 0;
+  for (unsigned seed = 1; seed <= 100; ++seed) {
+    const std::vector<double> S = cumulativeResidual(400, 400, 2.0e-6, 0.0, 1.3e-4, seed);
+    whole += kinkChangePoint(S.data(), 400, 9.0 * 1.3e-4 * 1.3e-4) == 400;
+    without_bound_short += kinkChangePoint(S.data(), 400, 0.0) < 200;
+  }
+  EXPECT_GE(whole, 95);
+  EXPECT_GE(without_bound_short, 30);
+  // A residual that grows alike everywhere, without noise: no kink at all.
+  std::vector<double> line(100);
+  for (int J = 1; J <= 100; ++J) line[static_cast<size_t>(J - 1)] = 1e-5 * J;
+  EXPECT_EQ(kinkChangePoint(line.data(), 100, 0.0), 100);
+}
+
+TEST(ChangePoint, TooFewSamplesForAKinkTakeTheExcursion) {
   const std::vector<double> few = {1e-5, 2e-5, 3e-5, 3e-5, 3e-5};
-  EXPECT_EQ(kinkChangePoint(few.data(), 5), excursionChangePoint(few.data(), 5));
+  EXPECT_EQ(kinkChangePoint(few.data(), 5, 0.0), excursionChangePoint(few.data(), 5));
   EXPECT_EQ(excursionChangePoint(few.data(), 5), 3);
 }
