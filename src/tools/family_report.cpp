@@ -35,10 +35,13 @@ std::string revisitCells(const std::optional<RevisitSummary>& r) {
 // runs.jsonl's "revisits" of one run: its revisit windows and, with the oracle's run of the same
 // scenario, each one's peak ratio to the oracle's (null without; JSON writes inf, a lost run's
 // window, as null too).
-nlohmann::ordered_json revisitJson(const std::vector<bool>& repeated, const RunDigest& run,
+// Every revisit window is listed, the quiet ones too, each with whether it is quiet.
+nlohmann::ordered_json revisitJson(const std::vector<bool>& repeated,
+                                   const std::vector<bool>& quiet, const RunDigest& run,
                                    const RunDigest* oracle) {
   nlohmann::ordered_json windows = nlohmann::ordered_json::array();
   nlohmann::ordered_json ratios = oracle ? nlohmann::ordered_json::array() : nullptr;
+  nlohmann::ordered_json quiet_flags = nlohmann::ordered_json::array();
   if (oracle) {
     for (const RevisitRatio& r : revisitRatios(repeated, *oracle, run)) {
       windows.push_back(r.window);
@@ -48,7 +51,11 @@ nlohmann::ordered_json revisitJson(const std::vector<bool>& repeated, const RunD
     for (size_t w = 1; w < repeated.size() && w < run.peak.size(); ++w)
       if (repeated[w]) windows.push_back(w);
   }
-  return {{"windows", windows}, {"ratio_to_oracle", ratios}};
+  for (const auto& w : windows) {
+    const auto i = w.get<size_t>();
+    quiet_flags.push_back(i < quiet.size() && quiet[i]);
+  }
+  return {{"windows", windows}, {"ratio_to_oracle", ratios}, {"quiet", quiet_flags}};
 }
 
 // One mode's runs, scenario by scenario.
@@ -64,7 +71,8 @@ void writeRuns(const std::string& path, const Family& fam, const std::vector<Run
   for (const auto& job : fam.jobs) {
     const auto k = static_cast<size_t>(job.scenario);
     nlohmann::ordered_json line = nlohmann::ordered_json::parse(job.json);
-    line["revisits"] = revisitJson(fam.repeated[k], job.digest, oracle ? &(*oracle)[k] : nullptr);
+    line["revisits"] =
+        revisitJson(fam.repeated[k], fam.quiet[k], job.digest, oracle ? &(*oracle)[k] : nullptr);
     f << line.dump() << '\n';
   }
 }
@@ -101,11 +109,20 @@ double printSummary(const Options& opt, const Family& fam) {
       noise_text += (i ? ", " : "") + fmtG(set_noise.std[i]);
     noise_text += "] (plant.noise.std, a seed per scenario)";
   }
+  size_t quiet = 0;
+  for (size_t k = 0; k < fam.quiet.size() && k < fam.repeated.size(); ++k)
+    for (size_t w = 1; w < fam.quiet[k].size() && w < fam.repeated[k].size(); ++w)
+      quiet += fam.quiet[k][w] && fam.repeated[k][w];
   std::printf(
       "family seed %llu: %d scenarios, %d regimes, %d segments, noise %s; %zu "
       "repeated-switch windows\n",
       static_cast<unsigned long long>(opt.seed), opt.count, opt.spec.regimes, opt.spec.segments,
       noise_text.c_str(), rep);
+  if (quiet > 0)
+    std::printf(
+        "quiet windows: %zu of the %zu, not judged (rac's peak |e| within %g x the sensor "
+        "noise's largest excursion: the switch is hidden in the noise; --quiet-factor)\n",
+        quiet, rep, opt.quiet_factor);
   if (!opt.conditions.empty()) std::printf("plant conditions: %s\n", opt.conditions.c_str());
   const ActuatorLimits& limits = fam.prepared.cfg.plant.actuator;
   if (fam.trim) {
@@ -199,6 +216,8 @@ nlohmann::ordered_json modeJson(const Options& opt, const Family& fam, double no
   if (!opt.conditions.empty()) o["conditions"] = opt.conditions;
   for (const auto& kv : fam.span) o["drawn"][kv.first] = {kv.second.first, kv.second.second};
   o["windows"] = s.windows;
+  o["quiet_windows"] = s.quiet;
+  o["quiet_factor"] = opt.quiet_factor;
   o["frac_better"] = s.frac_better;
   o["frac_halved"] = s.frac_halved;
   o["median_ratio"] = s.median_ratio;
@@ -225,6 +244,18 @@ nlohmann::ordered_json modeJson(const Options& opt, const Family& fam, double no
 }
 }  // namespace
 
+void markQuietWindows(const Options& opt, Family* fam) {
+  fam->quiet.assign(fam->repeated.size(), {});
+  for (const auto& job : fam->jobs) {
+    if (job.mode != "rac") continue;
+    const MeasurementNoise& noise = job.cfg.plant.noise;
+    const auto out = static_cast<Eigen::Index>(job.cfg.plant.output_index);
+    const double sigma = noise.active() && out < noise.std.size() ? std::abs(noise.std[out]) : 0.0;
+    fam->quiet[static_cast<size_t>(job.scenario)] = quietWindows(
+        job.cfg.scenario, job.cfg.controller.sample_time, sigma, job.digest, opt.quiet_factor);
+  }
+}
+
 void reportFamily(const Options& opt, const Family& fam) {
   const auto rac = digests(fam.jobs, "rac");
   const bool have_oracle =
@@ -237,9 +268,9 @@ void reportFamily(const Options& opt, const Family& fam) {
   for (const auto& m : opt.modes) {
     const auto runs = digests(fam.jobs, m);
     ModeReport r;
-    r.s = summarizeFamily(fam.repeated, rac, runs, have_oracle ? &oracle : nullptr);
+    r.s = summarizeFamily(fam.repeated, rac, runs, have_oracle ? &oracle : nullptr, &fam.quiet);
     r.effort = summarizeEffort(runs);
-    if (have_oracle) r.revisits = summarizeRevisits(fam.repeated, oracle, runs);
+    if (have_oracle) r.revisits = summarizeRevisits(fam.repeated, oracle, runs, &fam.quiet);
     printModeRows(m, fam.jobs, &r);
     if (opt.json) std::printf("%s\n", modeJson(opt, fam, noise, m, r).dump().c_str());
   }

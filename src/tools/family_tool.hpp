@@ -34,8 +34,9 @@ struct Options {
   unsigned jobs = 1;
   std::string elevator = "b747";
   double trim_fraction = 0.5;
-  bool every_regime = false;  ///< --trim-fraction none
-  std::string conditions;     ///< the plant conditions as the report's line names them
+  bool every_regime = false;           ///< --trim-fraction none
+  double quiet_factor = kQuietFactor;  ///< --quiet-factor (0: every window judged)
+  std::string conditions;              ///< the plant conditions as the report's line names them
   ConditionRange delay, lag, gust, lambda_range;  ///< drawn per scenario (per regime: Lambda)
   bool turbulence = false;                        ///< --turbulence given
   std::optional<double> lambda;                   ///< one Lambda for every scenario
@@ -62,6 +63,7 @@ struct Family {
   std::optional<TrimCheck> trim;
   int rejected = 0;                           ///< regimes drawn again (trim infeasible)
   std::vector<std::vector<bool>> repeated;    ///< each scenario's repeated-switch windows
+  std::vector<std::vector<bool>> quiet;       ///< each scenario's quiet windows (the report's)
   std::vector<nlohmann::ordered_json> drawn;  ///< each scenario's drawn_conditions
   Span span;
   std::vector<Job> jobs;  ///< scenario by scenario, the modes in order within each
@@ -75,6 +77,9 @@ bool parseOptions(int argc, char** argv, Options* opt);
 Family drawFamily(const Options& opt);
 /// \brief Run every job on opt.jobs threads; the first failure's message ("" when none).
 std::string runFamily(const Options& opt, Family* family);
+/// \brief Each scenario's quiet windows (quietWindows) from its rac run: the sensor noise on the
+/// measured output, the run's sample time and opt.quiet_factor.
+void markQuietWindows(const Options& opt, Family* family);
 /// \brief runs.jsonl (with --out-dir), the summary lines, each mode's table row and (--json)
 /// JSON line, on stdout.
 void reportFamily(const Options& opt, const Family& family);

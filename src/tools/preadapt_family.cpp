@@ -106,7 +106,7 @@ struct OptionText {
   cli::RunOptionText run;
   std::string seed, count, modes, noise, regimes, segments, ref, jobs, scales, reference;
   std::string delay, lag, lambda, gust, mismatch, faults;
-  std::string elevator, trim;
+  std::string elevator, trim, quiet;
 };
 
 void addOptions(CLI::App& app, family::Options* opt, OptionText* t) {
@@ -120,6 +120,11 @@ void addOptions(CLI::App& app, family::Options* opt, OptionText* t) {
                "with elevator limits, regimes whose trim deflection exceeds this fraction of "
                "the travel are drawn again (default 0.5; 1 = the whole travel; none = every "
                "regime drawn is kept, as without limits)");
+  cli::addText(app, "--quiet-factor", &t->quiet,
+               "with sensor noise, a switch window where rac's peak |e| is at most this many "
+               "times the noise's largest excursion over the window is quiet and judged by no "
+               "ratio (default 2: what the switch adds to rac's peak is no larger than the "
+               "noise; 0: every window judged)");
   cli::addText(app, "--seed", &t->seed, "the family's generator seed (required)");
   cli::addText(app, "--count", &t->count, "scenarios (default 30)");
   cli::addText(app, "--modes", &t->modes,
@@ -282,6 +287,11 @@ bool parseOptions(int argc, char** argv, Options* opt) {
     if (!(opt->trim_fraction > 0.0 && opt->trim_fraction <= 1.0))
       throw cli::UsageError("--trim-fraction: expected a fraction in (0, 1], got " + t.trim);
   }
+  if (!t.quiet.empty()) {
+    opt->quiet_factor = cli::parseDouble("--quiet-factor", t.quiet);
+    if (!(opt->quiet_factor >= 0.0 && opt->quiet_factor <= 100.0))
+      throw cli::UsageError("--quiet-factor: expected a factor in [0, 100], got " + t.quiet);
+  }
   parseConditions(t, opt);
   if (opt->spec.segments < 2 * opt->spec.regimes)
     throw cli::UsageError("--segments: expected 2 * regimes .. 1000");
@@ -303,6 +313,7 @@ int main(int argc, char** argv) {
       std::cerr << "preadapt_family: error: " << failure << std::endl;
       return 1;
     }
+    family::markQuietWindows(opt, &fam);
     family::reportFamily(opt, fam);
     return 0;
   });

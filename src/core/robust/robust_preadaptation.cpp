@@ -243,10 +243,10 @@ void RobustPreadaptation::onOnset(const Sample& s, Vec* theta_hat, Event* ev) {
   }
   // The noise of one sum about its mean is one endpoint's: chunkSigma() is two endpoints'.
   const double endpoint = chunkSigma() / std::sqrt(2.0);
-  const int m = robust_.change_point == ChangePoint::kFit
-                    ? kinkChangePoint(cumulative_.data(), span,
-                                      robust_.significance * endpoint * endpoint)
-                    : excursionChangePoint(cumulative_.data(), span);
+  const int m =
+      robust_.change_point == ChangePoint::kFit
+          ? kinkChangePoint(cumulative_.data(), span, robust_.significance * endpoint * endpoint)
+          : excursionChangePoint(cumulative_.data(), span);
   post_start_k_ = k_ - m + 1;
   // The estimate of the regime just left: theta_hat before the change.
   theta_keep_ = m < window_.count() ? window_.theta(window_.at(m)) : *theta_hat;

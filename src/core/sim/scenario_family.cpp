@@ -270,9 +270,35 @@ EffortSummary summarizeEffort(const std::vector<RunDigest>& runs) {
   return s;
 }
 
+double noisePeak(double sigma, double samples) {
+  return samples >= 1.0 ? sigma * std::sqrt(2.0 * std::log(2.0 * samples)) : sigma;
+}
+
+std::vector<bool> quietWindows(const Scenario& s, double dt, double sigma, const RunDigest& rac,
+                               double factor) {
+  std::vector<bool> out(rac.peak.size(), false);
+  if (!(sigma > 0.0 && factor > 0.0 && dt > 0.0)) return out;
+  const std::vector<double> switches = s.switchTimes();
+  double start = 0.0;
+  for (size_t w = 0; w < out.size(); ++w) {
+    const double end = w < switches.size() ? switches[w] : s.endTime();
+    // A lost run's windows after its blow-up hold inf or NaN: never quiet.
+    out[w] = w > 0 && rac.peak[w] <= factor * noisePeak(sigma, (end - start) / dt);
+    start = end;
+  }
+  return out;
+}
+
+namespace {
+bool isQuiet(const std::vector<std::vector<bool>>* quiet, size_t k, size_t w) {
+  return quiet && k < quiet->size() && w < (*quiet)[k].size() && (*quiet)[k][w];
+}
+}  // namespace
+
 FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
                               const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,
-                              const std::vector<RunDigest>* oracle) {
+                              const std::vector<RunDigest>* oracle,
+                              const std::vector<std::vector<bool>>* quiet) {
   FamilySummary s;
   std::vector<double> all;
   int better = 0, halved = 0;
@@ -283,9 +309,14 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
     const size_t blow_up = blowUpWindow(mode[k]);
     s.lost_runs += lost;
     for (size_t w = 1; w < mode[k].peak.size() && w < rac[k].peak.size(); ++w) {
+      const bool rep = w < repeated[k].size() && repeated[k][w];
+      if (isQuiet(quiet, k, w)) {
+        s.quiet += rep;
+        continue;
+      }
       const double q = w >= blow_up ? HUGE_VAL : ratio(mode[k].peak[w], rac[k].peak[w]);
       all.push_back(q);
-      if (w < repeated[k].size() && repeated[k][w]) {
+      if (rep) {
         s.ratios.push_back(q);
         better += q < 1.0;
         halved += q <= 0.5;
@@ -315,11 +346,11 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
 }
 
 std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const RunDigest& oracle,
-                                        const RunDigest& mode) {
+                                        const RunDigest& mode, const std::vector<bool>* quiet) {
   std::vector<RevisitRatio> out;
   const size_t mode_lost = blowUpWindow(mode), oracle_lost = blowUpWindow(oracle);
   for (size_t w = 1; w < repeated.size() && w < mode.peak.size() && w < oracle.peak.size(); ++w) {
-    if (!repeated[w]) continue;
+    if (!repeated[w] || (quiet && w < quiet->size() && (*quiet)[w])) continue;
     const double q = w >= mode_lost     ? HUGE_VAL
                      : w >= oracle_lost ? 0.0
                                         : ratio(mode.peak[w], oracle.peak[w]);
@@ -330,11 +361,14 @@ std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const
 
 RevisitSummary summarizeRevisits(const std::vector<std::vector<bool>>& repeated,
                                  const std::vector<RunDigest>& oracle,
-                                 const std::vector<RunDigest>& mode) {
+                                 const std::vector<RunDigest>& mode,
+                                 const std::vector<std::vector<bool>>* quiet) {
   RevisitSummary s;
   int within = 0;
   for (size_t k = 0; k < repeated.size() && k < oracle.size() && k < mode.size(); ++k)
-    for (const RevisitRatio& r : revisitRatios(repeated[k], oracle[k], mode[k])) {
+    for (const RevisitRatio& r :
+         revisitRatios(repeated[k], oracle[k], mode[k],
+                       quiet && k < quiet->size() ? &(*quiet)[k] : nullptr)) {
       s.ratios.push_back(r.ratio);
       within += r.ratio <= kRevisitTolerance;
     }

@@ -255,6 +255,75 @@ Scenario segmentsOf(const std::vector<Eigen::Vector3d>& thetas) {
 }
 }  // namespace
 
+TEST(Family, NoisePeakIsTheBoundOfTheLargestExcursion) {
+  // sigma sqrt(2 ln(2 n)): 4.55 sigma for 16000 samples; 16000 standard normal draws reach about
+  // 4.0 on average, and rarely beyond the bound.
+  EXPECT_NEAR(noisePeak(1.0, 16000.0), 4.555, 1e-3);
+  EXPECT_DOUBLE_EQ(noisePeak(2.0, 16000.0), 2.0 * noisePeak(1.0, 16000.0));
+  GaussianSource g(11);
+  int beyond = 0;
+  double mean = 0.0;
+  for (int trial = 0; trial < 200; ++trial) {
+    double top = 0.0;
+    for (int i = 0; i < 16000; ++i) top = std::max(top, std::abs(g.next()));
+    mean += top / 200.0;
+    beyond += top > noisePeak(1.0, 16000.0);
+  }
+  EXPECT_NEAR(mean, 4.0, 0.15);
+  EXPECT_LE(beyond, 20);
+}
+
+TEST(Family, AQuietWindowIsOneWhoseRacPeakTheNoiseCouldNearlyMake) {
+  // Three windows of 10 s at 1 ms, 0.1 mrad of noise: the bound is 0.1 mrad x 4.45 = 0.445 mrad,
+  // quiet up to twice that. Window 0 (no switch) never; without noise, or with factor 0, none.
+  const Scenario s = segmentsOf(
+      {Eigen::Vector3d::Constant(0.1), Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(4, 5, 6)});
+  RunDigest rac;
+  rac.peak = {1e-4, 0.88e-3, 0.90e-3};  // below and above 2 x 0.445
+  const double bound = noisePeak(1e-4, 10000.0);
+  ASSERT_NEAR(bound, 0.445e-3, 1e-6);
+  EXPECT_EQ(quietWindows(s, 0.001, 1e-4, rac), (std::vector<bool>{false, true, false}));
+  EXPECT_EQ(quietWindows(s, 0.001, 0.0, rac), (std::vector<bool>(3, false)));
+  EXPECT_EQ(quietWindows(s, 0.001, 1e-4, rac, 0.0), (std::vector<bool>(3, false)));
+  // A lost rac (peaks inf or NaN after its blow-up) has no quiet window there.
+  rac.peak = {1e-4, INFINITY, std::nan("")};
+  EXPECT_EQ(quietWindows(s, 0.001, 1e-4, rac), (std::vector<bool>(3, false)));
+}
+
+TEST(Family, QuietWindowsAreJudgedByNoRatio) {
+  // The summary of SummaryCountsOnlyRepeatedWindows with the first scenario's window 3 quiet:
+  // its ratio (0.8) leaves every statistic and is counted as quiet; window 1 (not repeated,
+  // ratio 9) quiet as well leaves the all-window worst.
+  const std::vector<std::vector<bool>> repeated = {{false, false, true, true},
+                                                   {false, false, false, true}};
+  const std::vector<std::vector<bool>> quiet = {{false, true, false, true},
+                                                {false, false, false, false}};
+  std::vector<RunDigest> rac(2), mode(2);
+  rac[0] = {{1, 1, 1, 1}, 10.0, 1.0};
+  rac[1] = {{1, 1, 1, 1}, 10.0, 1.0};
+  mode[0] = {{1, 9, 0.4, 0.8}, 10.6, 3.0};
+  mode[1] = {{1, 0.1, 0.1, 2.0}, 5.0, 2.0};
+  const FamilySummary s = summarizeFamily(repeated, rac, mode, nullptr, &quiet);
+  EXPECT_EQ(s.windows, 2);
+  EXPECT_EQ(s.quiet, 1);
+  EXPECT_DOUBLE_EQ(s.frac_better, 0.5);
+  EXPECT_DOUBLE_EQ(s.median_ratio, 1.2);  // (0.4 + 2.0) / 2
+  EXPECT_DOUBLE_EQ(s.worst_ratio, 2.0);
+  EXPECT_DOUBLE_EQ(s.all_worst_ratio, 2.0);
+  const FamilySummary all = summarizeFamily(repeated, rac, mode, nullptr);
+  EXPECT_EQ(all.windows, 3);
+  EXPECT_EQ(all.quiet, 0);
+  // Revisits against the oracle leave the quiet ones out too.
+  std::vector<RunDigest> oracle(2);
+  oracle[0].peak = {1, 1, 0.4, 0.4};  // revisits 2 and 3 of the first: 1.0 and 2.0 (quiet)
+  oracle[1].peak = {1, 1, 1, 1};
+  const RevisitSummary rv = summarizeRevisits(repeated, oracle, mode, &quiet);
+  EXPECT_EQ(rv.count, 2);
+  EXPECT_DOUBLE_EQ(rv.worst, 2.0);  // the second scenario's window 3
+  EXPECT_DOUBLE_EQ(rv.within, 0.5);
+  EXPECT_EQ(summarizeRevisits(repeated, oracle, mode).count, 3);
+}
+
 // Revisits are the windows switching back to a theta seen earlier in the scenario (the first
 // segment's too); each is the mode's peak over the oracle's in that window. Every other window
 // has a ratio far above any revisit's, so counting one of them moves the worst and the median.

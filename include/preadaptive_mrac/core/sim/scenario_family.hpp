@@ -139,9 +139,29 @@ TrimCheck makeTrimCheck(const Eigen::MatrixXd& A, const Eigen::VectorXd& B,
                         const Eigen::VectorXd& B1r, const Eigen::RowVectorXd& K, double r_max,
                         double limit);
 
-/// \brief One mode against rac over a family (docs/spec.md "Beyond the paper").
+/// \brief The largest excursion `samples` samples of white noise of standard deviation `sigma`
+/// reach, by its usual bound sigma sqrt(2 ln(2 samples)) (the expected largest |noise| lies a
+/// little below: 4.0 sigma against the bound's 4.55 sigma for 16000 samples) [as sigma].
+double noisePeak(double sigma, double samples);
+
+/// \brief A switch window is quiet when rac's peak |e| there is at most this many times the
+/// sensor noise's largest excursion over the window: what the switch adds to rac's peak is then
+/// no larger than the noise alone (a signal-to-noise ratio of one at most).
+inline constexpr double kQuietFactor = 2.0;
+
+/// \brief The windows (0 = the first segment) of `s` whose switch the sensor noise hides: rac's
+/// measured peak |e| at most `factor` x noisePeak(sigma, the window's samples at `dt`). In such a
+/// window every mode's peak is the noise's largest excursion plus a few hundredths of a mrad of
+/// its own, and a peak ratio compares two noise realisations. None when sigma or factor is 0;
+/// window 0 never (no switch). sigma: the noise on the measured output (alpha) [rad].
+std::vector<bool> quietWindows(const Scenario& s, double dt, double sigma, const RunDigest& rac,
+                               double factor = kQuietFactor);
+
+/// \brief One mode against rac over a family (docs/spec.md "Beyond the paper"). The ratios judge
+/// the windows that are not quiet (quietWindows); `quiet` counts the repeated ones left out.
 struct FamilySummary {
   int windows = 0;                ///< repeated-switch windows compared
+  int quiet = 0;                  ///< repeated-switch windows left out as quiet
   double frac_better = 0.0;       ///< peak ratio < 1
   double frac_halved = 0.0;       ///< peak ratio <= 0.5
   double median_ratio = 0.0;      ///< median peak ratio
@@ -156,10 +176,12 @@ struct FamilySummary {
   int lost_runs = 0;  ///< runs whose IAE is not finite: their windows from the blow-up count inf
 };
 
-/// \brief Compare `mode` with `rac` scenario by scenario; `oracle` may be null.
+/// \brief Compare `mode` with `rac` scenario by scenario; `oracle` may be null; `quiet` (may be
+/// null: none) each scenario's quiet windows, left out of every ratio.
 FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
                               const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,
-                              const std::vector<RunDigest>* oracle);
+                              const std::vector<RunDigest>* oracle,
+                              const std::vector<std::vector<bool>>* quiet = nullptr);
 
 /// \brief The revisit criterion: a mode's peak |e| in a window that switches back into a known
 /// regime within this factor of the oracle's peak in the same window (the oracle is told the true
@@ -175,9 +197,11 @@ struct RevisitRatio {
 
 /// \brief Every revisit window of one scenario, in order, with its peak ratio of `mode` to
 /// `oracle`. From the window a lost run (IAE not finite, as in summarizeFamily) blew up in, a
-/// lost mode counts inf (the worst), a lost oracle with the mode still flying 0.
+/// lost mode counts inf (the worst), a lost oracle with the mode still flying 0. With `quiet`,
+/// its quiet windows are left out.
 std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const RunDigest& oracle,
-                                        const RunDigest& mode);
+                                        const RunDigest& mode,
+                                        const std::vector<bool>* quiet = nullptr);
 
 /// \brief One mode against the oracle over the revisit windows of a family.
 struct RevisitSummary {
@@ -189,9 +213,10 @@ struct RevisitSummary {
 };
 
 /// \brief revisitRatios of every scenario of the family, summarized (count 0, the rest 0, when
-/// there is no revisit).
+/// there is no revisit); `quiet` (may be null) as in summarizeFamily.
 RevisitSummary summarizeRevisits(const std::vector<std::vector<bool>>& repeated,
                                  const std::vector<RunDigest>& oracle,
-                                 const std::vector<RunDigest>& mode);
+                                 const std::vector<RunDigest>& mode,
+                                 const std::vector<std::vector<bool>>* quiet = nullptr);
 
 }  // namespace preadaptive_mrac
