@@ -34,8 +34,7 @@ std::string revisitCells(const std::optional<RevisitSummary>& r) {
 
 // runs.jsonl's "revisits" of one run: its revisit windows and, with the oracle's run of the same
 // scenario, each one's peak ratio to the oracle's (null without; JSON writes inf, a lost run's
-// window, as null too).
-// Every revisit window is listed, the quiet ones too, each with whether it is quiet.
+// window, as null too), and whether each is quiet (the quiet ones are listed too).
 nlohmann::ordered_json revisitJson(const std::vector<bool>& repeated,
                                    const std::vector<bool>& quiet, const RunDigest& run,
                                    const RunDigest* oracle) {

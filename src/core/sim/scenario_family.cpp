@@ -310,7 +310,7 @@ FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
     s.lost_runs += lost;
     for (size_t w = 1; w < mode[k].peak.size() && w < rac[k].peak.size(); ++w) {
       const bool rep = w < repeated[k].size() && repeated[k][w];
-      if (isQuiet(quiet, k, w)) {
+      if (isQuiet(quiet, k, w) && w < blow_up) {  // a run lost there counts, quiet or not
         s.quiet += rep;
         continue;
       }
@@ -350,7 +350,7 @@ std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const
   std::vector<RevisitRatio> out;
   const size_t mode_lost = blowUpWindow(mode), oracle_lost = blowUpWindow(oracle);
   for (size_t w = 1; w < repeated.size() && w < mode.peak.size() && w < oracle.peak.size(); ++w) {
-    if (!repeated[w] || (quiet && w < quiet->size() && (*quiet)[w])) continue;
+    if (!repeated[w] || (quiet && w < quiet->size() && (*quiet)[w] && w < mode_lost)) continue;
     const double q = w >= mode_lost     ? HUGE_VAL
                      : w >= oracle_lost ? 0.0
                                         : ratio(mode.peak[w], oracle.peak[w]);

@@ -322,6 +322,15 @@ TEST(Family, QuietWindowsAreJudgedByNoRatio) {
   EXPECT_DOUBLE_EQ(rv.worst, 2.0);  // the second scenario's window 3
   EXPECT_DOUBLE_EQ(rv.within, 0.5);
   EXPECT_EQ(summarizeRevisits(repeated, oracle, mode).count, 3);
+  // A run lost in a quiet window (IAE not finite, its peak there NaN) counts there all the same.
+  std::vector<RunDigest> lost = mode;
+  lost[0].iae = std::nan("");
+  lost[0].peak = {1, 1, 0.4, std::nan("")};
+  const FamilySummary l = summarizeFamily(repeated, rac, lost, nullptr, &quiet);
+  EXPECT_EQ(l.lost_runs, 1);
+  EXPECT_EQ(l.quiet, 0);
+  EXPECT_EQ(l.worst_ratio, HUGE_VAL);
+  EXPECT_EQ(summarizeRevisits(repeated, oracle, lost, &quiet).worst, HUGE_VAL);
 }
 
 // Revisits are the windows switching back to a theta seen earlier in the scenario (the first

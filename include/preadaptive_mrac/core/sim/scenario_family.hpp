@@ -177,7 +177,8 @@ struct FamilySummary {
 };
 
 /// \brief Compare `mode` with `rac` scenario by scenario; `oracle` may be null; `quiet` (may be
-/// null: none) each scenario's quiet windows, left out of every ratio.
+/// null: none) each scenario's quiet windows, left out of every ratio (but a window the mode's
+/// run was lost in, or after: that counts inf all the same).
 FamilySummary summarizeFamily(const std::vector<std::vector<bool>>& repeated,
                               const std::vector<RunDigest>& rac, const std::vector<RunDigest>& mode,
                               const std::vector<RunDigest>* oracle,
@@ -198,7 +199,7 @@ struct RevisitRatio {
 /// \brief Every revisit window of one scenario, in order, with its peak ratio of `mode` to
 /// `oracle`. From the window a lost run (IAE not finite, as in summarizeFamily) blew up in, a
 /// lost mode counts inf (the worst), a lost oracle with the mode still flying 0. With `quiet`,
-/// its quiet windows are left out.
+/// its quiet windows are left out, but those from the mode's loss.
 std::vector<RevisitRatio> revisitRatios(const std::vector<bool>& repeated, const RunDigest& oracle,
                                         const RunDigest& mode,
                                         const std::vector<bool>* quiet = nullptr);
