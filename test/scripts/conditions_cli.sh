@@ -5,18 +5,10 @@
 # effectiveness schedule going backwards) with exit code 2 and a line naming the key.
 #   Env: PMRAC_BUILD_DIR (default build).
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-BIN=$BUILD/devel/lib/preadaptive_mrac
-# the batch tools may live in the workspace's bin/ instead
-[ -x "$BIN/preadapt_margins" ] || [ ! -x "$BUILD/devel/bin/preadapt_margins" ] || BIN=$BUILD/devel/bin
-for t in preadapt_sim preadapt_sweep preadapt_family preadapt_margins; do
-  [ -x "$BIN/$t" ] || { echo "SKIPPED: conditions_cli: $BIN/$t not built"; exit 77; }
-done
-W=$(mktemp -d "${TMPDIR:-/tmp}/conditions_cli.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-# shellcheck source=test/scripts/lib/counts.sh
-source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
+TEST_NAME=conditions_cli
+TOOLS="preadapt_sim preadapt_sweep preadapt_family preadapt_margins"
+# shellcheck source=test/scripts/lib/batch_tools.sh
+source "$(dirname "$0")/lib/batch_tools.sh"
 
 # rac's delay margin at the default gamma: 1139 samples hold the bound, 1140 do not
 # (docs/research/conditions.md); bisection to 4 ms brackets it in [1.136, 1.140] s.

@@ -4,14 +4,10 @@
 # every line of runs.jsonl has a real wall_time_s. Also: scenario.launch names a JSBSim bag
 # apart from a linear one (roslaunch --dump-params, no master).  Env: PMRAC_BUILD_DIR.
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-BIN=$BUILD/devel/lib/preadaptive_mrac
-[ -x "$BIN/preadapt_family" ] || { echo "SKIPPED: family_noise_wall: preadapt_family not built"; exit 77; }
-W=$(mktemp -d "${TMPDIR:-/tmp}/family_noise_wall.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-# shellcheck source=test/scripts/lib/counts.sh
-source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
+TEST_NAME=family_noise_wall
+TOOLS="preadapt_family"
+# shellcheck source=test/scripts/lib/batch_tools.sh
+source "$(dirname "$0")/lib/batch_tools.sh"
 
 "$BIN/preadapt_family" --seed 7 --count 3 --segments 6 --modes rac,pa_learn --jobs 2 \
   --set 'plant.noise.std=[0,0.001,0.001]' --out-dir "$W/a" >"$W/a.txt" || bad "family exited $?"

@@ -5,16 +5,13 @@
 # peak), the judged worst and revisit ratios against the windows left, and --quiet-factor 0
 # (every window judged) against the same runs. Env: PMRAC_BUILD_DIR.
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-BIN=$BUILD/devel/lib/preadaptive_mrac
-[ -x "$BIN/preadapt_family" ] || { echo "SKIPPED: family_quiet: preadapt_family not built"; exit 77; }
-W=$(mktemp -d "${TMPDIR:-/tmp}/family_quiet.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-# shellcheck source=test/scripts/lib/counts.sh
-source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
+TEST_NAME=family_quiet
+TOOLS="preadapt_family"
+# shellcheck source=test/scripts/lib/batch_tools.sh
+source "$(dirname "$0")/lib/batch_tools.sh"
 
 # Seed 55 holds three quiet windows at 0.1 mrad (a development family).
+# shellcheck disable=SC2054  # --modes takes a comma list
 args=(--seed 55 --count 30 --segments 8 --noise 1e-4 --time-constant 0.05
   --modes rac,pa_robust,oracle --jobs 2 --json)
 "$BIN/preadapt_family" "${args[@]}" --out-dir "$W/a" >"$W/a.txt" || bad "family exited $?"

@@ -5,15 +5,10 @@
 # family seed draws the same again; bad ranges refused with exit 2 naming the flag.
 #   Env: PMRAC_BUILD_DIR (default build).
 set -uo pipefail
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-BUILD=${PMRAC_BUILD_DIR:-$ROOT/build}
-BIN=$BUILD/devel/lib/preadaptive_mrac
-[ -x "$BIN/preadapt_family" ] || [ ! -x "$BUILD/devel/bin/preadapt_family" ] || BIN=$BUILD/devel/bin
-[ -x "$BIN/preadapt_family" ] || { echo "SKIPPED: family_ranges: preadapt_family not built"; exit 77; }
-W=$(mktemp -d "${TMPDIR:-/tmp}/family_ranges.XXXXXX")
-trap 'rm -rf "$W"' EXIT
-# shellcheck source=test/scripts/lib/counts.sh
-source "$(dirname "${BASH_SOURCE[0]}")/lib/counts.sh"
+TEST_NAME=family_ranges
+TOOLS="preadapt_family"
+# shellcheck source=test/scripts/lib/batch_tools.sh
+source "$(dirname "$0")/lib/batch_tools.sh"
 
 RANGES=(--delay 0:0.04 --time-constant 0.02:0.08 --turbulence 0.5:2 --effectiveness 0.4:1.0)
 for d in a b; do
